@@ -1,0 +1,87 @@
+#include "apps/cli.hpp"
+
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "apps/run_scene.hpp"
+#include "apps/study.hpp"
+
+namespace cardiosph {
+namespace {
+
+void add_common_options(CLI::App& command, CommonOptions& o) {
+  command.add_option("--output", o.output, "output folder (default: output/<scene>)");
+  command.add_option("--config", o.config, "parameter file (.toml or .json)");
+  command.add_option("--set", o.assignments, "set a parameter: --set key=value (repeatable)")->allow_extra_args(false);
+  command.add_option("--resolution", o.resolution, "the scene's resolution (same as --set resolution=...)");
+  command.add_option("--end-time", o.end_time, "simulated end time (same as --set end_time=...)");
+  command.add_option("--threads", o.threads, "worker threads (0: all cores)");
+  command.add_flag("--quiet", o.quiet, "no parameter listing and no progress");
+  command.add_flag("--parameters", o.print_parameters_only, "list the parameters with their values, units and ranges, and stop");
+}
+
+}  // namespace
+
+int run_cli(int argc, const char* const* argv) {
+  CLI::App app{"cardiosph: smoothed particle hydrodynamics for cardiac electromechanics"};
+  app.name("cardiosph");
+  app.require_subcommand(1);
+
+  auto* list = app.add_subcommand("list", "list the scenes");
+  CommonOptions options;
+  std::vector<std::pair<std::string, CLI::App*>> scene_commands;
+  for (const auto& scene : scene_registry()) {
+    auto* command = app.add_subcommand(scene.name, scene.summary);
+    add_common_options(*command, options);
+    scene_commands.emplace_back(scene.name, command);
+  }
+  std::string study_scene, sweep;
+  auto* study = app.add_subcommand("study", "run a scene at several settings; error against wall time");
+  study->add_option("scene", study_scene, "scene to study")->required();
+  study->add_option("--sweep", sweep, "key=value1,value2,... (e.g. resolution=25,50,100)")->required();
+  add_common_options(*study, options);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    const int code = app.exit(error);
+    return code == 0 ? exit_ok : exit_bad_input;
+  }
+
+  try {
+    if (list->parsed()) {
+      std::size_t width = 0;
+      for (const auto& s : scene_registry()) width = std::max(width, s.name.size());
+      for (const auto& s : scene_registry())
+        std::cout << "  " << s.name << std::string(width + 2 - s.name.size(), ' ') << s.summary << '\n';
+      return exit_ok;
+    }
+    if (study->parsed()) return run_study(study_scene, sweep, options);
+    for (const auto& [name, command] : scene_commands) {
+      if (!command->parsed()) continue;
+      const auto result = run_scene(name, options);
+      if (options.print_parameters_only) return exit_ok;
+      if (result.exit_code == exit_ok && !options.quiet) {
+        std::cout << "\n" << name << " " << result.report.status << " in " << result.report.wall_time_s << " s, "
+                  << result.report.steps << " steps\n";
+        for (auto it = result.report.results.begin(); it != result.report.results.end(); ++it)
+          std::cout << "  results." << it.key() << " = " << it.value() << '\n';
+        for (auto it = result.report.errors.begin(); it != result.report.errors.end(); ++it)
+          std::cout << "  errors." << it.key() << " = " << it.value() << '\n';
+      }
+      std::cout << "results in " << std::filesystem::absolute(result.output).string()
+                << " (report.json, observers.csv, tissue.pvd for ParaView)\n";
+      return result.exit_code;
+    }
+  } catch (const sph::ParameterError& error) {
+    std::cerr << "cardiosph: " << error.what() << '\n';
+    return exit_bad_input;
+  } catch (const std::exception& error) {
+    std::cerr << "cardiosph: " << error.what() << '\n';
+    return exit_run_failed;
+  }
+  return exit_bad_input;
+}
+
+}  // namespace cardiosph

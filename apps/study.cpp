@@ -1,0 +1,141 @@
+#include "apps/study.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+#include "libsph/io/atomic_file.hpp"
+
+namespace cardiosph {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Sweep {
+  std::string key;
+  std::vector<std::string> values;
+};
+
+Sweep parse_sweep(const std::string& text) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
+    throw sph::ParameterError("option '--sweep' = '" + text + "': expected key=value1,value2,...");
+  Sweep sweep{text.substr(0, eq), {}};
+  std::stringstream values(text.substr(eq + 1));
+  for (std::string v; std::getline(values, v, ',');) {
+    if (v.empty()) throw sph::ParameterError("option '--sweep' = '" + text + "': empty value");
+    sweep.values.push_back(v);
+  }
+  if (sweep.values.size() < 2) throw sph::ParameterError("option '--sweep' = '" + text + "': give at least two values");
+  return sweep;
+}
+
+bool parse_number(const std::string& s, double& v) {
+  char* end = nullptr;
+  v = std::strtod(s.c_str(), &end);
+  return end && *end == '\0' && std::isfinite(v);
+}
+
+void plot(const fs::path& folder, const std::vector<std::string>& error_names, const std::string& scene,
+          const std::string& key) {
+  std::ostringstream script;
+  script << "set terminal pngcairo size 900,650 enhanced font 'sans,11'\n"
+         << "set output 'study.png.partial'\n"
+         << "set datafile separator ','\n"
+         << "set logscale xy\n"
+         << "set grid\n"
+         << "set key outside right top\n"
+         << "set title '" << scene << ": error against wall time (sweep of " << key << ")' noenhanced\n"
+         << "set xlabel 'wall time [s]'\nset ylabel 'error'\n"
+         << "plot ";
+  for (std::size_t e = 0; e < error_names.size(); ++e)
+    script << (e ? ", " : "") << "'study.csv' using 5:" << 6 + e << " skip 1 with linespoints lw 2 pt 7 title '"
+           << error_names[e] << "' noenhanced";
+  script << "\n";
+  sph::write_file_atomically(folder / "study.gp", script.str());
+  const std::string command = "cd '" + folder.string() + "' && gnuplot study.gp 2> gnuplot.log";
+  if (std::system(command.c_str()) == 0) {
+    sph::commit_temporary(folder / "study.png.partial", folder / "study.png");
+    fs::remove(folder / "gnuplot.log");
+  } else {
+    fs::remove(folder / "study.png.partial");
+    std::cerr << "study: the plot was not made (is gnuplot installed? see " << (folder / "gnuplot.log").string()
+              << "); study.csv is complete\n";
+  }
+}
+
+}  // namespace
+
+int run_study(const std::string& scene_name, const std::string& sweep_text, const CommonOptions& options) {
+  const Sweep sweep = parse_sweep(sweep_text);
+  if (!find_scene(scene_name)) throw sph::ParameterError("unknown scene '" + scene_name + "' (see 'cardiosph list')");
+  const fs::path folder = options.output.empty() ? fs::path("output") / ("study-" + scene_name) : options.output;
+  if (fs::exists(folder) && !fs::is_empty(folder) && !fs::exists(folder / "study.csv"))
+    throw sph::ParameterError("output folder '" + folder.string() +
+                              "' exists and does not hold an earlier study (no study.csv); choose another --output");
+  // Check every setting before running any of them (bad input costs nothing).
+  for (const auto& value : sweep.values) {
+    CommonOptions check = options;
+    check.check_only = true;
+    run_scene(scene_name, check, {sweep.key + "=" + value});
+  }
+  fs::create_directories(folder);
+
+  std::vector<sph::RunReport> reports;
+  for (const auto& value : sweep.values) {
+    CommonOptions run = options;
+    run.output = folder / (sweep.key + "-" + value);
+    run.quiet = true;
+    if (!options.quiet) std::cout << "study " << scene_name << ": " << sweep.key << " = " << value << " ..." << std::flush;
+    const auto result = run_scene(scene_name, run, {sweep.key + "=" + value});
+    if (!options.quiet) std::cout << " " << result.report.status << " in " << result.report.wall_time_s << " s\n";
+    if (result.exit_code != exit_ok) {
+      std::cerr << "study: the run with " << sweep.key << " = " << value << " failed; see " << run.output.string() << '\n';
+      return result.exit_code;
+    }
+    reports.push_back(result.report);
+  }
+
+  // Table.
+  std::vector<std::string> error_names;
+  for (auto it = reports.front().errors.begin(); it != reports.front().errors.end(); ++it) error_names.push_back(it.key());
+  std::ostringstream csv;
+  csv << std::setprecision(10) << sweep.key << ",particles,steps,threads,wall_time_s";
+  for (const auto& e : error_names) csv << ',' << e;
+  csv << '\n';
+  for (std::size_t k = 0; k < reports.size(); ++k) {
+    std::size_t particles = 0;
+    for (const auto& n : reports[k].particles) particles += n.get<std::size_t>();
+    csv << sweep.values[k] << ',' << particles << ',' << reports[k].steps << ',' << reports[k].threads << ','
+        << reports[k].wall_time_s;
+    for (const auto& e : error_names) csv << ',' << reports[k].errors.value(e, std::nan(""));
+    csv << '\n';
+  }
+  sph::write_file_atomically(folder / "study.csv", csv.str());
+  if (!error_names.empty()) plot(folder, error_names, scene_name, sweep.key);
+
+  // Observed orders.
+  std::cout << "study " << scene_name << ": results in " << folder.string() << " (study.csv, study.png)\n";
+  std::cout << std::setprecision(4);
+  for (const auto& e : error_names) {
+    std::cout << "  " << e << ":";
+    for (std::size_t k = 0; k < reports.size(); ++k) std::cout << ' ' << reports[k].errors.value(e, std::nan(""));
+    std::cout << "\n    observed order with respect to " << sweep.key << ":";
+    for (std::size_t k = 0; k + 1 < reports.size(); ++k) {
+      double v0, v1;
+      const double e0 = reports[k].errors.value(e, std::nan("")), e1 = reports[k + 1].errors.value(e, std::nan(""));
+      if (parse_number(sweep.values[k], v0) && parse_number(sweep.values[k + 1], v1) && v0 > 0 && v1 > 0 && v0 != v1 &&
+          e0 > 0 && e1 > 0)
+        std::cout << ' ' << std::log(e0 / e1) / std::log(v1 / v0);
+      else
+        std::cout << " n/a";
+    }
+    std::cout << '\n';
+  }
+  return exit_ok;
+}
+
+}  // namespace cardiosph

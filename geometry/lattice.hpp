@@ -1,0 +1,48 @@
+#pragma once
+// Lattice particles: cell centres of a regular grid of spacing dp filling an axis-aligned box, each
+// with the volume dp^Dim of its cell (so the volumes sum to the box volume exactly).
+
+#include <array>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "libsph/core/particles.hpp"
+
+namespace geometry {
+
+/// Particles of spacing `spacing` filling [lower, upper]; the box extent must be a whole number of
+/// spacings in every direction (to a relative tolerance of 1e-9), so that volumes sum exactly.
+template <int Dim>
+sph::ParticleSet<Dim> lattice_box(const std::string& name, const sph::Vec<Dim>& lower, const sph::Vec<Dim>& upper,
+                                  sph::Real spacing) {
+  if (!(spacing > 0)) throw std::invalid_argument("lattice '" + name + "': spacing must be positive");
+  std::array<long, Dim> count{};
+  std::size_t total = 1;
+  for (int d = 0; d < Dim; ++d) {
+    const double cells = static_cast<double>((upper[d] - lower[d]) / spacing);
+    count[d] = std::lround(cells);
+    if (count[d] < 1 || std::abs(cells - static_cast<double>(count[d])) > 1e-9 * std::max(1.0, cells))
+      throw std::invalid_argument("lattice '" + name + "': box extent is not a whole number of spacings");
+    total *= static_cast<std::size_t>(count[d]);
+  }
+  std::vector<sph::Vec<Dim>> positions;
+  positions.reserve(total);
+  std::array<long, Dim> k{};
+  for (std::size_t n = 0; n < total; ++n) {
+    std::size_t rest = n;
+    for (int d = 0; d < Dim; ++d) {
+      k[d] = static_cast<long>(rest % static_cast<std::size_t>(count[d]));
+      rest /= static_cast<std::size_t>(count[d]);
+    }
+    sph::Vec<Dim> x;
+    for (int d = 0; d < Dim; ++d) x[d] = lower[d] + (static_cast<sph::Real>(k[d]) + sph::Real(0.5)) * spacing;
+    positions.push_back(x);
+  }
+  sph::Real volume = 1;
+  for (int d = 0; d < Dim; ++d) volume *= spacing;
+  return sph::ParticleSet<Dim>(name, std::move(positions), std::vector<sph::Real>(total, volume));
+}
+
+}  // namespace geometry

@@ -1,0 +1,57 @@
+#include "libsph/core/cell_linked_list.hpp"
+
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace sph {
+
+template <int Dim>
+CellLinkedList<Dim>::CellLinkedList(std::span<const Vec<Dim>> sources, Real search_radius) {
+  if (!(search_radius > 0)) throw std::invalid_argument("cell-linked list: search radius must be positive");
+  // A cell a little larger than the search radius guarantees that two points closer than the
+  // radius never fall two cells apart, whatever the rounding of (x - origin) / cell_size.
+  cell_size_ = search_radius * (Real(1) + Real(64) * std::numeric_limits<Real>::epsilon());
+  Vec<Dim> lower = Vec<Dim>::Constant(std::numeric_limits<Real>::max());
+  Vec<Dim> upper = Vec<Dim>::Constant(std::numeric_limits<Real>::lowest());
+  for (const auto& x : sources) {
+    if (!x.allFinite()) throw std::invalid_argument("cell-linked list: a particle position is not finite");
+    lower = lower.cwiseMin(x);
+    upper = upper.cwiseMax(x);
+  }
+  if (sources.empty()) lower = upper = Vec<Dim>::Zero();
+  origin_ = lower;
+  std::size_t total = 1;
+  for (int d = 0; d < Dim; ++d) {
+    const auto n = static_cast<std::size_t>(std::floor((upper[d] - lower[d]) / cell_size_)) + 1;
+    n_cells_[d] = n;
+    total *= n;
+  }
+  if (total > std::size_t(1) << 34)
+    throw std::invalid_argument("cell-linked list: " + std::to_string(total) +
+                                " cells; the search radius is far too small for the particle extent");
+
+  // Counting sort by cell: count, exclusive scan, fill in index order.
+  std::vector<std::size_t> cell_of(sources.size());
+  cell_start_.assign(total + 1, 0);
+  for (std::size_t i = 0; i < sources.size(); ++i) {
+    std::size_t cell = 0, stride = 1;
+    for (int d = 0; d < Dim; ++d) {
+      const auto c = static_cast<std::size_t>(std::clamp<long>(cell_coordinate(sources[i][d], d), 0,
+                                                               static_cast<long>(n_cells_[d]) - 1));
+      cell += c * stride;
+      stride *= n_cells_[d];
+    }
+    cell_of[i] = cell;
+    ++cell_start_[cell + 1];
+  }
+  for (std::size_t c = 0; c < total; ++c) cell_start_[c + 1] += cell_start_[c];
+  cell_particles_.resize(sources.size());
+  std::vector<std::size_t> next(cell_start_.begin(), cell_start_.end() - 1);
+  for (std::size_t i = 0; i < sources.size(); ++i) cell_particles_[next[cell_of[i]]++] = static_cast<Index>(i);
+}
+
+template class CellLinkedList<2>;
+template class CellLinkedList<3>;
+
+}  // namespace sph

@@ -1,0 +1,68 @@
+#pragma once
+// Cell-linked list: source particles binned into cubic cells no smaller than the search radius,
+// so that every neighbour of a point lies in its own cell or one of the 3^Dim - 1 adjacent cells.
+// Particles of a cell are stored contiguously (counting sort), in increasing index order.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <span>
+#include <vector>
+
+#include "libsph/core/types.hpp"
+
+namespace sph {
+
+template <int Dim>
+class CellLinkedList {
+ public:
+  CellLinkedList(std::span<const Vec<Dim>> sources, Real search_radius);
+
+  /// Calls visit(j) for every source j in the cells around `x` (a superset of the neighbours
+  /// within the search radius), in a fixed order: cells in stencil order, sources by index.
+  template <class Visit>
+  void for_each_candidate(const Vec<Dim>& x, Visit&& visit) const {
+    std::array<long, Dim> lo, hi;
+    for (int d = 0; d < Dim; ++d) {
+      const long c = cell_coordinate(x[d], d);
+      lo[d] = std::max(c - 1, 0L);
+      hi[d] = std::min(c + 1, static_cast<long>(n_cells_[d]) - 1);
+      if (lo[d] > hi[d]) return;  // x is more than one cell away from every source
+    }
+    if constexpr (Dim == 2) {
+      for (long cy = lo[1]; cy <= hi[1]; ++cy)
+        for (long cx = lo[0]; cx <= hi[0]; ++cx) visit_cell(cx + cy * n_cells_[0], visit);
+    } else {
+      for (long cz = lo[2]; cz <= hi[2]; ++cz)
+        for (long cy = lo[1]; cy <= hi[1]; ++cy)
+          for (long cx = lo[0]; cx <= hi[0]; ++cx)
+            visit_cell(cx + n_cells_[0] * (cy + n_cells_[1] * cz), visit);
+    }
+  }
+
+  Real cell_size() const { return cell_size_; }
+  std::size_t n_cells() const { return cell_start_.size() - 1; }
+
+ private:
+  long cell_coordinate(Real x, int d) const {
+    // Clamp in floating point first so that far-away points cannot overflow the integer.
+    const Real c = std::floor((x - origin_[d]) / cell_size_);
+    const Real limit = static_cast<Real>(n_cells_[d]) + Real(2);
+    return static_cast<long>(std::clamp(c, -Real(2), limit));
+  }
+  template <class Visit>
+  void visit_cell(long cell, Visit& visit) const {
+    for (std::size_t k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) visit(cell_particles_[k]);
+  }
+
+  Vec<Dim> origin_;
+  Real cell_size_;
+  std::array<std::size_t, Dim> n_cells_{};
+  std::vector<std::size_t> cell_start_;  ///< CSR offsets into cell_particles_, size n_cells + 1
+  std::vector<Index> cell_particles_;
+};
+
+extern template class CellLinkedList<2>;
+extern template class CellLinkedList<3>;
+
+}  // namespace sph

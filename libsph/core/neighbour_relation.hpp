@@ -1,0 +1,69 @@
+#pragma once
+// Neighbour relations in compressed-row form: for each target particle i, the source particles j
+// with |x_i - x_j| < support radius, in a fixed order (cell stencil order, then source index), with
+// the kernel value W_ij, the radial derivative dW/dr(r_ij), the distance r_ij and the unit vector
+// e_ij = (x_i - x_j) / r_ij cached per pair (e_ij = 0 for coincident points).
+//
+// InnerRelation: a particle set with itself (i is not its own neighbour).
+// ContactRelation: targets of one set, sources of another, with the contact's smoothing length
+// (by default the larger of the two sets' smoothing lengths, as for multi-resolution coupling).
+//
+// Both are built in two passes (count per target, exclusive scan, fill), each target writing only
+// its own row: no atomics, and the same lists for any number of threads.
+
+#include <span>
+#include <vector>
+
+#include "libsph/core/kernels.hpp"
+#include "libsph/core/types.hpp"
+
+namespace sph {
+
+template <int Dim>
+struct NeighbourList {
+  Real smoothing_length = 0;
+  std::vector<std::size_t> offsets;    ///< row i is [offsets[i], offsets[i+1])
+  std::vector<Index> neighbour;        ///< source index j of each pair
+  std::vector<Real> kernel_value;      ///< W(r_ij, h)
+  std::vector<Real> kernel_derivative; ///< dW/dr at r_ij (<= 0)
+  std::vector<Real> distance;          ///< r_ij
+  std::vector<Vec<Dim>> unit_vector;   ///< e_ij = (x_i - x_j) / r_ij
+
+  std::size_t n_targets() const { return offsets.empty() ? 0 : offsets.size() - 1; }
+  std::size_t n_pairs() const { return neighbour.size(); }
+  std::size_t n_neighbours(std::size_t i) const { return offsets[i + 1] - offsets[i]; }
+  /// Bytes held per stored pair (index and cached kernel data), plus the row offsets.
+  static constexpr std::size_t bytes_per_pair = sizeof(Index) + 3 * sizeof(Real) + sizeof(Vec<Dim>);
+  std::size_t bytes() const { return n_pairs() * bytes_per_pair + offsets.size() * sizeof(std::size_t); }
+};
+
+template <int Dim>
+struct InnerRelation : NeighbourList<Dim> {};
+
+template <int Dim>
+struct ContactRelation : NeighbourList<Dim> {};
+
+/// Neighbours of every particle of `positions` among the same particles.
+template <int Dim>
+InnerRelation<Dim> build_inner_relation(std::span<const Vec<Dim>> positions, const AnyKernel<Dim>& kernel,
+                                        Real smoothing_length);
+
+/// Neighbours of every target among the sources (two different particle sets).
+template <int Dim>
+ContactRelation<Dim> build_contact_relation(std::span<const Vec<Dim>> targets, std::span<const Vec<Dim>> sources,
+                                            const AnyKernel<Dim>& kernel, Real smoothing_length);
+
+/// Brute-force O(N_t N_s) neighbour indices, row by row in increasing source index (for tests).
+template <int Dim>
+std::vector<std::vector<Index>> brute_force_neighbours(std::span<const Vec<Dim>> targets,
+                                                       std::span<const Vec<Dim>> sources, Real support_radius,
+                                                       bool exclude_self);
+
+extern template InnerRelation<2> build_inner_relation<2>(std::span<const Vec<2>>, const AnyKernel<2>&, Real);
+extern template InnerRelation<3> build_inner_relation<3>(std::span<const Vec<3>>, const AnyKernel<3>&, Real);
+extern template ContactRelation<2> build_contact_relation<2>(std::span<const Vec<2>>, std::span<const Vec<2>>,
+                                                             const AnyKernel<2>&, Real);
+extern template ContactRelation<3> build_contact_relation<3>(std::span<const Vec<3>>, std::span<const Vec<3>>,
+                                                             const AnyKernel<3>&, Real);
+
+}  // namespace sph

@@ -1,0 +1,120 @@
+#pragma once
+// Particle storage as a structure of arrays.
+//
+// Every particle set has positions and volumes. Any other field is registered on first request by
+// the dynamics that needs it (`register_field`), which returns a typed handle; loops fetch the
+// array once through the handle (`field(handle)`) and then index it directly, so there is no string
+// lookup inside a particle loop and a scene pays only for the fields its dynamics use. The name of a
+// field is its label for output only.
+
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <typeinfo>
+#include <vector>
+
+#include "libsph/core/types.hpp"
+
+namespace sph {
+
+/// Type-erased base of one field array (output and bookkeeping only, never in a hot loop).
+class FieldArrayBase {
+ public:
+  FieldArrayBase(std::string name, bool write_output) : name_(std::move(name)), write_output_(write_output) {}
+  virtual ~FieldArrayBase() = default;
+  const std::string& name() const { return name_; }
+  bool write_output() const { return write_output_; }
+  void set_write_output(bool on) { write_output_ = on; }
+  virtual const std::type_info& value_type() const = 0;
+  virtual std::size_t size() const = 0;
+  virtual std::size_t bytes_per_particle() const = 0;
+
+ private:
+  std::string name_;
+  bool write_output_;
+};
+
+template <class T>
+class FieldArray final : public FieldArrayBase {
+ public:
+  FieldArray(std::string name, std::size_t n, const T& initial, bool write_output)
+      : FieldArrayBase(std::move(name), write_output), values(n, initial) {}
+  const std::type_info& value_type() const override { return typeid(T); }
+  std::size_t size() const override { return values.size(); }
+  std::size_t bytes_per_particle() const override { return sizeof(T); }
+  std::vector<T> values;
+};
+
+/// Typed handle to a registered field; cheap to copy, valid for the particle set that issued it.
+template <class T>
+struct FieldHandle {
+  std::size_t slot = static_cast<std::size_t>(-1);
+  bool valid() const { return slot != static_cast<std::size_t>(-1); }
+};
+
+template <int Dim>
+class ParticleSet {
+ public:
+  using VecD = Vec<Dim>;
+
+  ParticleSet() = default;
+  ParticleSet(std::string name, std::vector<VecD> positions, std::vector<Real> volumes)
+      : position(std::move(positions)), volume(std::move(volumes)), name_(std::move(name)) {
+    if (position.size() != volume.size())
+      throw std::invalid_argument("particle set '" + name_ + "': positions and volumes differ in count");
+  }
+
+  const std::string& name() const { return name_; }
+  std::size_t n_particles() const { return position.size(); }
+
+  /// Registers `name` with the initial value, or returns the handle of the existing field of that
+  /// name (its values are kept). Registering the same name with another type is a logic error.
+  template <class T>
+  FieldHandle<T> register_field(const std::string& name, const T& initial = T{}, bool write_output = true) {
+    for (std::size_t s = 0; s < fields_.size(); ++s) {
+      if (fields_[s]->name() != name) continue;
+      if (fields_[s]->value_type() != typeid(T))
+        throw std::logic_error("field '" + name + "' of particle set '" + name_ + "' exists with another type");
+      return FieldHandle<T>{s};
+    }
+    fields_.push_back(std::make_unique<FieldArray<T>>(name, n_particles(), initial, write_output));
+    return FieldHandle<T>{fields_.size() - 1};
+  }
+
+  /// Handle of an existing field, or an invalid handle.
+  template <class T>
+  FieldHandle<T> find_field(const std::string& name) const {
+    for (std::size_t s = 0; s < fields_.size(); ++s)
+      if (fields_[s]->name() == name && fields_[s]->value_type() == typeid(T)) return FieldHandle<T>{s};
+    return {};
+  }
+
+  template <class T>
+  std::span<T> field(FieldHandle<T> handle) {
+    return static_cast<FieldArray<T>&>(*fields_.at(handle.slot)).values;
+  }
+  template <class T>
+  std::span<const T> field(FieldHandle<T> handle) const {
+    return static_cast<const FieldArray<T>&>(*fields_.at(handle.slot)).values;
+  }
+
+  /// All registered fields (for writers and memory reports).
+  const std::vector<std::unique_ptr<FieldArrayBase>>& fields() const { return fields_; }
+
+  /// Bytes per particle of everything stored (positions, volumes and registered fields).
+  std::size_t bytes_per_particle() const {
+    std::size_t bytes = sizeof(VecD) + sizeof(Real);
+    for (const auto& f : fields_) bytes += f->bytes_per_particle();
+    return bytes;
+  }
+
+  std::vector<VecD> position;  ///< current position [length unit of the scene]
+  std::vector<Real> volume;    ///< particle volume [length^Dim]
+
+ private:
+  std::string name_;
+  std::vector<std::unique_ptr<FieldArrayBase>> fields_;
+};
+
+}  // namespace sph

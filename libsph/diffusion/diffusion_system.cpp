@@ -1,0 +1,64 @@
+#include "libsph/diffusion/diffusion_system.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "libsph/core/correction_matrix.hpp"
+#include "libsph/core/numerical_failure.hpp"
+#include "libsph/core/parallel.hpp"
+#include "libsph/diffusion/diffusion_operator.hpp"
+
+namespace sph {
+
+template <int Dim>
+ScalarDiffusionSystem<Dim>::ScalarDiffusionSystem(ParticleSet<Dim>& particles, const InnerRelation<Dim>& relation,
+                                                  Settings settings)
+    : particles_(particles), relation_(relation), settings_(std::move(settings)) {
+  const std::size_t n = particles_.n_particles();
+  if (relation_.n_targets() != n)
+    throw std::invalid_argument("diffusion on '" + particles_.name() + "': relation does not match the particles");
+  if (!(settings_.cfl > 0 && settings_.cfl <= 1))
+    throw std::invalid_argument("diffusion on '" + particles_.name() + "': cfl must lie in (0, 1]");
+  for (const auto& D : settings_.diffusion_tensor) check_diffusion_tensor<Dim>(D, "diffusion on '" + particles_.name() + "'");
+
+  value_ = particles_.template register_field<Real>(settings_.field_name, Real(0));
+  std::vector<Mat<Dim>> correction_matrix;
+  if (settings_.correction == DiffusionCorrection::gradient) {
+    const auto handle = particles_.template register_field<Mat<Dim>>("correction_matrix", Mat<Dim>::Identity(), false);
+    compute_correction_matrix<Dim>(relation_, particles_.volume, particles_.field(handle));
+    const auto B = particles_.field(handle);
+    correction_matrix.assign(B.begin(), B.end());
+  }
+  pair_coefficient_ = diffusion_pair_coefficients<Dim>(relation_, particles_.volume, settings_.diffusion_tensor,
+                                                       settings_.correction, correction_matrix);
+  step_limit_ = diffusion_time_step_limit<Dim>(relation_, pair_coefficient_);
+  rate_.resize(n);
+  if (settings_.integrator == DiffusionIntegrator::heun) {
+    predicted_.resize(n);
+    predicted_rate_.resize(n);
+  }
+}
+
+template <int Dim>
+void ScalarDiffusionSystem<Dim>::advance(Real time, Real dt) {
+  auto C = particles_.field(value_);
+  const std::size_t n = C.size();
+  apply_diffusion<Dim>(relation_, pair_coefficient_, C, rate_);
+  if (settings_.integrator == DiffusionIntegrator::forward_euler) {
+    parallel_for(n, [&](std::size_t i) { C[i] += dt * rate_[i]; });
+  } else {
+    // Heun: predictor C* = C + dt L(C), corrector C += dt/2 (L(C) + L(C*)).
+    parallel_for(n, [&](std::size_t i) { predicted_[i] = C[i] + dt * rate_[i]; });
+    apply_diffusion<Dim>(relation_, pair_coefficient_, predicted_, predicted_rate_);
+    parallel_for(n, [&](std::size_t i) { C[i] += Real(0.5) * dt * (rate_[i] + predicted_rate_[i]); });
+  }
+  const std::size_t bad = first_index_where(n, [&](std::size_t i) { return !std::isfinite(C[i]); });
+  if (bad < n)
+    throw NumericalFailure(particles_.name(), bad, NumericalFailure::format_position(particles_.position[bad]),
+                           time + dt, settings_.field_name, "is not finite");
+}
+
+template class ScalarDiffusionSystem<2>;
+template class ScalarDiffusionSystem<3>;
+
+}  // namespace sph

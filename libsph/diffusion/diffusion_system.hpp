@@ -1,0 +1,56 @@
+#pragma once
+// A scalar field that diffuses on a fixed particle set: dC/dt = div(D grad C), no-flux wherever the
+// particle set ends (the pairwise form exchanges C only between particles), explicit time stepping
+// at a fraction `cfl` of the forward-Euler stability limit (diffusion_operator.hpp).
+// Fields it adds to the particle set: the scalar (named by the caller), and with the gradient
+// correction the correction matrix (not written to output).
+
+#include <string>
+#include <vector>
+
+#include "libsph/core/neighbour_relation.hpp"
+#include "libsph/core/particles.hpp"
+#include "libsph/diffusion/diffusion_operator.hpp"
+
+namespace sph {
+
+enum class DiffusionIntegrator {
+  forward_euler,  ///< C += dt L(C); first order in time
+  heun,           ///< explicit trapezoidal (RK2); second order in time, same stability limit
+};
+
+template <int Dim>
+class ScalarDiffusionSystem {
+ public:
+  struct Settings {
+    std::string field_name = "concentration";
+    std::vector<Mat<Dim>> diffusion_tensor;  ///< one (uniform) or one per particle [length^2/time]
+    DiffusionCorrection correction = DiffusionCorrection::moment;
+    DiffusionIntegrator integrator = DiffusionIntegrator::heun;
+    Real cfl = Real(0.5);  ///< fraction of the stability limit, in (0, 1]
+  };
+
+  /// The relation must be the inner relation of `particles` and outlive the system.
+  ScalarDiffusionSystem(ParticleSet<Dim>& particles, const InnerRelation<Dim>& relation, Settings settings);
+
+  FieldHandle<Real> value_field() const { return value_; }
+  /// Stable step: cfl times the forward-Euler limit of the assembled operator.
+  Real stable_time_step() const { return settings_.cfl * step_limit_; }
+  /// Advances the field from `time` by dt; throws NumericalFailure if a value becomes non-finite.
+  void advance(Real time, Real dt);
+  const Settings& settings() const { return settings_; }
+
+ private:
+  ParticleSet<Dim>& particles_;
+  const InnerRelation<Dim>& relation_;
+  Settings settings_;
+  FieldHandle<Real> value_;
+  std::vector<Real> pair_coefficient_;
+  Real step_limit_ = 0;
+  std::vector<Real> rate_, predicted_, predicted_rate_;  // scratch, allocated once
+};
+
+extern template class ScalarDiffusionSystem<2>;
+extern template class ScalarDiffusionSystem<3>;
+
+}  // namespace sph

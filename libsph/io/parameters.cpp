@@ -1,0 +1,254 @@
+#include "libsph/io/parameters.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+#include <toml++/toml.h>
+
+namespace sph {
+namespace {
+
+std::string format_number(double v) {
+  std::ostringstream s;
+  s << std::setprecision(15) << v;
+  return s.str();
+}
+
+std::string quoted(const std::string& s) { return "'" + s + "'"; }
+
+std::string where(const std::string& origin) { return origin.empty() ? "" : " (from " + origin + ")"; }
+
+// Flattens a JSON object into dotted keys with text values.
+void flatten_json(const nlohmann::json& node, const std::string& prefix,
+                  std::vector<std::pair<std::string, std::string>>& out, const std::string& file) {
+  for (auto it = node.begin(); it != node.end(); ++it) {
+    const std::string key = prefix.empty() ? it.key() : prefix + "." + it.key();
+    const auto& v = it.value();
+    if (v.is_object()) flatten_json(v, key, out, file);
+    else if (v.is_string()) out.emplace_back(key, v.get<std::string>());
+    else if (v.is_boolean()) out.emplace_back(key, v.get<bool>() ? "true" : "false");
+    else if (v.is_number_integer()) out.emplace_back(key, std::to_string(v.get<long long>()));
+    else if (v.is_number()) out.emplace_back(key, format_number(v.get<double>()));
+    else throw ParameterError(file + ": value of " + quoted(key) + " must be a number, a string or a boolean");
+  }
+}
+
+void flatten_toml(const toml::table& table, const std::string& prefix,
+                  std::vector<std::pair<std::string, std::string>>& out, const std::string& file) {
+  for (const auto& [k, node] : table) {
+    const std::string key = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+    if (const auto* sub = node.as_table()) flatten_toml(*sub, key, out, file);
+    else if (const auto* s = node.as_string()) out.emplace_back(key, s->get());
+    else if (const auto* b = node.as_boolean()) out.emplace_back(key, b->get() ? "true" : "false");
+    else if (const auto* i = node.as_integer()) out.emplace_back(key, std::to_string(i->get()));
+    else if (const auto* f = node.as_floating_point()) out.emplace_back(key, format_number(f->get()));
+    else throw ParameterError(file + ": value of " + quoted(key) + " must be a number, a string or a boolean");
+  }
+}
+
+double parse_double(const std::string& key, const std::string& text, const std::string& origin) {
+  double v = 0;
+  const char* first = text.data();
+  const char* last = text.data() + text.size();
+  while (first != last && *first == ' ') ++first;
+  if (first != last && *first == '+') ++first;
+  const auto [end, error] = std::from_chars(first, last, v);
+  if (error != std::errc() || end != last || text.empty())
+    throw ParameterError("parameter " + quoted(key) + where(origin) + ": " + quoted(text) + " is not a number");
+  return v;
+}
+
+}  // namespace
+
+bool Range::contains(double v) const {
+  if (std::isnan(v)) return false;
+  if (min_open ? !(v > min) : !(v >= min)) return false;
+  if (max_open ? !(v < max) : !(v <= max)) return false;
+  return true;
+}
+
+std::string Range::describe() const {
+  const bool has_min = std::isfinite(min), has_max = std::isfinite(max);
+  if (has_min && has_max)
+    return std::string(min_open ? "(" : "[") + format_number(min) + ", " + format_number(max) + (max_open ? ")" : "]");
+  if (has_min) return std::string(min_open ? "> " : ">= ") + format_number(min);
+  if (has_max) return std::string(max_open ? "< " : "<= ") + format_number(max);
+  return "any finite value";
+}
+
+void Parameters::add_entry(Entry e) {
+  if (has(e.key)) throw std::logic_error("parameter '" + e.key + "' declared twice");
+  entries_.push_back(std::move(e));
+}
+
+void Parameters::add(const std::string& key, double& value, const std::string& unit, const std::string& help,
+                     Range range) {
+  Entry e{key, unit, help, range, {}, {}, {}, {}, {}};
+  auto check = [key, range, unit](double v, const std::string& origin) {
+    if (!std::isfinite(v) || !range.contains(v))
+      throw ParameterError("parameter " + quoted(key) + where(origin) + " = " + format_number(v) + ": must be " +
+                           range.describe() + (unit.empty() ? "" : " [" + unit + "]"));
+  };
+  e.parse = [&value, key, check](const std::string& text, const std::string& origin) {
+    const double v = parse_double(key, text, origin);
+    check(v, origin);
+    value = v;
+  };
+  e.text = [&value] { return format_number(value); };
+  e.json = [&value] { return nlohmann::json(value); };
+  e.check = [&value, check](const std::string& origin) { check(value, origin); };
+  add_entry(std::move(e));
+}
+
+void Parameters::add(const std::string& key, long& value, const std::string& unit, const std::string& help,
+                     Range range) {
+  Entry e{key, unit, help, range, {}, {}, {}, {}, {}};
+  auto check = [key, range, unit](long v, const std::string& origin) {
+    if (!range.contains(static_cast<double>(v)))
+      throw ParameterError("parameter " + quoted(key) + where(origin) + " = " + std::to_string(v) + ": must be " +
+                           range.describe() + (unit.empty() ? "" : " [" + unit + "]"));
+  };
+  e.parse = [&value, key, check](const std::string& text, const std::string& origin) {
+    const double v = parse_double(key, text, origin);
+    if (v != std::floor(v) || std::abs(v) > 1e15)
+      throw ParameterError("parameter " + quoted(key) + where(origin) + ": " + quoted(text) + " is not an integer");
+    check(static_cast<long>(v), origin);
+    value = static_cast<long>(v);
+  };
+  e.text = [&value] { return std::to_string(value); };
+  e.json = [&value] { return nlohmann::json(value); };
+  e.check = [&value, check](const std::string& origin) { check(value, origin); };
+  add_entry(std::move(e));
+}
+
+void Parameters::add(const std::string& key, bool& value, const std::string& help) {
+  Entry e{key, "", help, Range::any(), {"true", "false"}, {}, {}, {}, {}};
+  e.parse = [&value, key](const std::string& text, const std::string& origin) {
+    if (text == "true" || text == "1" || text == "on") value = true;
+    else if (text == "false" || text == "0" || text == "off") value = false;
+    else throw ParameterError("parameter " + quoted(key) + where(origin) + ": " + quoted(text) + " is not true or false");
+  };
+  e.text = [&value] { return std::string(value ? "true" : "false"); };
+  e.json = [&value] { return nlohmann::json(value); };
+  e.check = [](const std::string&) {};
+  add_entry(std::move(e));
+}
+
+void Parameters::add_choice(const std::string& key, std::string& value, std::vector<std::string> choices,
+                            const std::string& help) {
+  Entry e{key, "", help, Range::any(), choices, {}, {}, {}, {}};
+  auto check = [key, choices](const std::string& v, const std::string& origin) {
+    if (std::find(choices.begin(), choices.end(), v) != choices.end()) return;
+    std::string list;
+    for (const auto& c : choices) list += (list.empty() ? "" : ", ") + c;
+    throw ParameterError("parameter " + quoted(key) + where(origin) + " = " + quoted(v) + ": must be one of " + list);
+  };
+  e.parse = [&value, check](const std::string& text, const std::string& origin) {
+    check(text, origin);
+    value = text;
+  };
+  e.text = [&value] { return value; };
+  e.json = [&value] { return nlohmann::json(value); };
+  e.check = [&value, check](const std::string& origin) { check(value, origin); };
+  add_entry(std::move(e));
+}
+
+bool Parameters::has(const std::string& key) const {
+  return std::any_of(entries_.begin(), entries_.end(), [&](const Entry& e) { return e.key == key; });
+}
+
+Parameters::Entry& Parameters::entry(const std::string& key, const std::string& origin) {
+  for (auto& e : entries_)
+    if (e.key == key) return e;
+  std::string known;
+  for (const auto& e : entries_) known += (known.empty() ? "" : ", ") + e.key;
+  throw ParameterError("unknown parameter " + quoted(key) + where(origin) + "; this scene has: " + known);
+}
+
+void Parameters::set(const std::string& key, const std::string& text, const std::string& origin) {
+  entry(key, origin).parse(text, origin);
+}
+
+void Parameters::set_assignment(const std::string& assignment, const std::string& origin) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw ParameterError(origin + ": " + quoted(assignment) + " is not of the form key=value");
+  set(assignment.substr(0, eq), assignment.substr(eq + 1), origin);
+}
+
+void Parameters::load_file(const std::filesystem::path& path) {
+  const std::string name = path.string();
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ParameterError("config file " + quoted(name) + " cannot be read (missing or not readable)");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  const std::string text = buffer.str();
+  std::vector<std::pair<std::string, std::string>> values;
+  const auto extension = path.extension().string();
+  if (extension == ".json") {
+    nlohmann::json document;
+    try {
+      document = nlohmann::json::parse(text);
+    } catch (const nlohmann::json::parse_error& error) {
+      throw ParameterError("config file " + quoted(name) + " is not valid JSON: " + error.what());
+    }
+    if (!document.is_object()) throw ParameterError("config file " + quoted(name) + ": top level must be an object");
+    flatten_json(document, "", values, name);
+  } else if (extension == ".toml") {
+    try {
+      const toml::table table = toml::parse(text, name);
+      flatten_toml(table, "", values, name);
+    } catch (const toml::parse_error& error) {
+      std::ostringstream s;
+      s << "config file " << quoted(name) << " is not valid TOML: " << error.description() << " (line "
+        << error.source().begin.line << ")";
+      throw ParameterError(s.str());
+    }
+  } else {
+    throw ParameterError("config file " + quoted(name) + ": unknown format (expected a .toml or .json file)");
+  }
+  for (const auto& [key, value] : values) set(key, value, name);
+}
+
+void Parameters::check() const {
+  for (const auto& e : entries_) e.check("");
+}
+
+nlohmann::json Parameters::to_json() const {
+  nlohmann::json out = nlohmann::json::object();
+  for (const auto& e : entries_) out[e.key] = e.json();
+  return out;
+}
+
+std::string Parameters::describe() const {
+  std::size_t width = 0;
+  for (const auto& e : entries_) width = std::max(width, e.key.size() + 3 + e.text().size());
+  std::ostringstream s;
+  for (const auto& e : entries_) {
+    std::string left = e.key + " = " + e.text();
+    s << "  " << std::left << std::setw(static_cast<int>(width)) << left;
+    if (!e.unit.empty()) s << "  [" << e.unit << "]";
+    s << "  " << e.help;
+    if (!e.choices.empty() && e.choices.size() > 2) {
+      s << " (";
+      for (std::size_t c = 0; c < e.choices.size(); ++c) s << (c ? ", " : "") << e.choices[c];
+      s << ")";
+    } else if (std::isfinite(e.range.min) || std::isfinite(e.range.max)) {
+      s << " (" << e.range.describe() << ")";
+    }
+    s << '\n';
+  }
+  return s.str();
+}
+
+std::vector<std::string> Parameters::keys() const {
+  std::vector<std::string> out;
+  for (const auto& e : entries_) out.push_back(e.key);
+  return out;
+}
+
+}  // namespace sph

@@ -1,0 +1,69 @@
+#include "libsph/io/particle_output.hpp"
+
+#include <cstdio>
+#include <iomanip>
+#include <sstream>
+
+#include "libsph/io/atomic_file.hpp"
+#include "libsph/io/vtk/vtu_writer.hpp"
+
+namespace sph {
+namespace {
+
+template <int Dim>
+std::vector<PointArray> point_arrays(const ParticleSet<Dim>& particles) {
+  const std::size_t n = particles.n_particles();
+  std::vector<PointArray> arrays;
+  arrays.push_back({"volume", 1, std::vector<double>(particles.volume.begin(), particles.volume.end())});
+  for (const auto& base : particles.fields()) {
+    if (!base->write_output()) continue;
+    if (const auto* f = dynamic_cast<const FieldArray<Real>*>(base.get())) {
+      arrays.push_back({f->name(), 1, std::vector<double>(f->values.begin(), f->values.end())});
+    } else if (const auto* v = dynamic_cast<const FieldArray<Vec<Dim>>*>(base.get())) {
+      PointArray a{v->name(), 3, std::vector<double>(3 * n, 0.0)};
+      for (std::size_t i = 0; i < n; ++i)
+        for (int d = 0; d < Dim; ++d) a.values[3 * i + d] = v->values[i][d];
+      arrays.push_back(std::move(a));
+    } else if (const auto* m = dynamic_cast<const FieldArray<Mat<Dim>>*>(base.get())) {
+      PointArray a{m->name(), 9, std::vector<double>(9 * n, 0.0)};
+      for (std::size_t i = 0; i < n; ++i)
+        for (int r = 0; r < Dim; ++r)
+          for (int c = 0; c < Dim; ++c) a.values[9 * i + 3 * r + c] = m->values[i](r, c);
+      arrays.push_back(std::move(a));
+    } else if (const auto* k = dynamic_cast<const FieldArray<int>*>(base.get())) {
+      arrays.push_back({k->name(), 1, std::vector<double>(k->values.begin(), k->values.end())});
+    }
+  }
+  return arrays;
+}
+
+}  // namespace
+
+template <int Dim>
+ParticleOutput<Dim>::ParticleOutput(std::filesystem::path folder, std::string body_name)
+    : folder_(std::move(folder)), body_(std::move(body_name)) {}
+
+template <int Dim>
+void ParticleOutput<Dim>::write(const ParticleSet<Dim>& particles, double time) {
+  char name[256];
+  std::snprintf(name, sizeof(name), "%s_%05zu.vtu", body_.c_str(), entries_.size());
+  std::vector<double> points(3 * particles.n_particles(), 0.0);
+  for (std::size_t i = 0; i < particles.n_particles(); ++i)
+    for (int d = 0; d < Dim; ++d) points[3 * i + d] = particles.position[i][d];
+  write_vtu(folder_ / name, points, point_arrays(particles));
+  entries_.emplace_back(time, name);
+
+  std::ostringstream pvd;
+  pvd << "<?xml version=\"1.0\"?>\n"
+      << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n"
+      << std::setprecision(12);
+  for (const auto& [t, file] : entries_)
+    pvd << "    <DataSet timestep=\"" << t << "\" group=\"\" part=\"0\" file=\"" << file << "\"/>\n";
+  pvd << "  </Collection>\n</VTKFile>\n";
+  write_file_atomically(folder_ / (body_ + ".pvd"), pvd.str());
+}
+
+template class ParticleOutput<2>;
+template class ParticleOutput<3>;
+
+}  // namespace sph

@@ -1,0 +1,14 @@
+// Built instead of vtu_writer.cpp when CARDIOSPH_WITH_VTK is off: particle fields are not written.
+#include "libsph/io/vtk/vtu_writer.hpp"
+
+#include <stdexcept>
+
+namespace sph {
+
+bool vtu_output_available() { return false; }
+
+void write_vtu(const std::filesystem::path& path, const std::vector<double>&, const std::vector<PointArray>&) {
+  throw std::runtime_error("cannot write '" + path.string() + "': this build has no VTK (CARDIOSPH_WITH_VTK=OFF)");
+}
+
+}  // namespace sph
