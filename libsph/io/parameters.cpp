@@ -182,8 +182,12 @@ void Parameters::set_assignment(const std::string& assignment, const std::string
 
 void Parameters::load_file(const std::filesystem::path& path) {
   const std::string name = path.string();
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw ParameterError("config file " + quoted(name) + " cannot be read: it does not exist");
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw ParameterError("config file " + quoted(name) + " cannot be read: it is not a regular file");
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw ParameterError("config file " + quoted(name) + " cannot be read (missing or not readable)");
+  if (!in) throw ParameterError("config file " + quoted(name) + " cannot be read: permission denied or I/O error");
   std::stringstream buffer;
   buffer << in.rdbuf();
   const std::string text = buffer.str();

@@ -1,0 +1,84 @@
+// Measures the 3D neighbour-list build and one kernel summation over it; run build/benchmarks/bench_core.
+
+#include <cstddef>
+#include <cstdint>
+#include <random>
+#include <span>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include "libsph/core/kernels.hpp"
+#include "libsph/core/neighbour_relation.hpp"
+#include "libsph/core/parallel.hpp"
+#include "libsph/core/types.hpp"
+
+namespace {
+
+constexpr sph::Real dp = 1.0;
+constexpr sph::Real smoothing_length = 1.3 * dp;
+
+/// side^3 particles on a cubic lattice of spacing dp, each shifted by a fixed-seed jitter of up to 0.1 dp.
+std::vector<sph::Vec<3>> jittered_lattice(std::size_t side) {
+  std::mt19937_64 engine(20240601);
+  const auto jitter = [&] { return 0.1 * dp * (2.0 * static_cast<sph::Real>(engine() >> 11) * 0x1.0p-53 - 1.0); };
+  std::vector<sph::Vec<3>> positions;
+  positions.reserve(side * side * side);
+  for (std::size_t z = 0; z < side; ++z)
+    for (std::size_t y = 0; y < side; ++y)
+      for (std::size_t x = 0; x < side; ++x) {
+        const sph::Vec<3> lattice_point(x * dp, y * dp, z * dp);
+        positions.push_back(lattice_point + sph::Vec<3>(jitter(), jitter(), jitter()));
+      }
+  return positions;
+}
+
+void bm_build_inner_relation(benchmark::State& state) {
+  const auto positions = jittered_lattice(static_cast<std::size_t>(state.range(0)));
+  const sph::AnyKernel<3> kernel = sph::WendlandC2<3>{};
+  const double n = static_cast<double>(positions.size());
+  double pairs = 0, bytes = 0;
+  for (auto _ : state) {
+    auto relation = sph::build_inner_relation<3>(std::span<const sph::Vec<3>>(positions), kernel, smoothing_length);
+    benchmark::DoNotOptimize(relation.neighbour.data());
+    pairs = static_cast<double>(relation.n_pairs());
+    bytes = static_cast<double>(relation.bytes());
+  }
+  state.counters["particles_per_second"] = benchmark::Counter(n, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["pairs_per_particle"] = pairs / n;
+  state.counters["bytes_per_particle"] = bytes / n;
+}
+
+void bm_kernel_summation(benchmark::State& state) {
+  const auto positions = jittered_lattice(static_cast<std::size_t>(state.range(0)));
+  const sph::AnyKernel<3> kernel = sph::WendlandC2<3>{};
+  const auto relation =
+      sph::build_inner_relation<3>(std::span<const sph::Vec<3>>(positions), kernel, smoothing_length);
+  const std::size_t n = positions.size();
+  const std::vector<sph::Real> volume(n, dp * dp * dp);
+  std::vector<sph::Real> sigma(n);
+  const sph::Real self_weight = sph::WendlandC2<3>::value(0, smoothing_length);
+
+  for (auto _ : state) {
+    sph::parallel_for(n, [&](std::size_t i) {
+      sph::Real sum = self_weight * volume[i];
+      for (std::size_t k = relation.offsets[i]; k < relation.offsets[i + 1]; ++k)
+        sum += volume[relation.neighbour[k]] * relation.kernel_value[k];
+      sigma[i] = sum;
+    });
+    benchmark::DoNotOptimize(sigma.data());
+    benchmark::ClobberMemory();
+  }
+  const double n_real = static_cast<double>(n);
+  state.counters["particles_per_second"] = benchmark::Counter(n_real, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["pairs_per_particle"] = static_cast<double>(relation.n_pairs()) / n_real;
+  state.counters["bytes_per_particle"] =
+      static_cast<double>(relation.bytes() + 2 * n * sizeof(sph::Real)) / n_real;
+}
+
+}  // namespace
+
+BENCHMARK(bm_build_inner_relation)->Arg(46)->Arg(100)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(bm_kernel_summation)->Arg(46)->Arg(100)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+BENCHMARK_MAIN();

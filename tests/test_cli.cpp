@@ -1,0 +1,148 @@
+// The command line and the run contract: bad input (unknown key or option, out-of-range values,
+// missing or broken config, a tensor that is not positive definite) exits with code 2, names the
+// problem and leaves no output folder; a good run writes report.json with the contract's keys.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "apps/cli.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    folder_ = fs::temp_directory_path() / ("cardiosph_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(folder_);
+    fs::create_directories(folder_);
+  }
+  void TearDown() override { fs::remove_all(folder_); }
+
+  int run(std::vector<std::string> args) {
+    args.insert(args.begin(), "cardiosph");
+    std::vector<const char*> argv;
+    for (const auto& a : args) argv.push_back(a.c_str());
+    testing::internal::CaptureStderr();
+    testing::internal::CaptureStdout();
+    const int code = cardiosph::run_cli(static_cast<int>(argv.size()), argv.data());
+    stdout_ = testing::internal::GetCapturedStdout();
+    stderr_ = testing::internal::GetCapturedStderr();
+    return code;
+  }
+  // Runs a bad input and checks exit code 2, the message, and that nothing was written.
+  void expect_rejected(std::vector<std::string> args, const std::string& message_part) {
+    const fs::path out = folder_ / "out";
+    args.push_back("--output");
+    args.push_back(out.string());
+    EXPECT_EQ(run(args), 2) << stderr_;
+    EXPECT_NE(stderr_.find(message_part), std::string::npos) << "stderr: " << stderr_;
+    EXPECT_FALSE(fs::exists(out));
+    EXPECT_FALSE(fs::exists(out.string() + ".partial"));
+  }
+  fs::path write(const std::string& name, const std::string& content) {
+    std::ofstream(folder_ / name) << content;
+    return folder_ / name;
+  }
+
+  fs::path folder_;
+  std::string stdout_, stderr_;
+};
+
+TEST_F(Cli, ListShowsTheScenes) {
+  EXPECT_EQ(run({"list"}), 0);
+  EXPECT_NE(stdout_.find("diffusion-aniso"), std::string::npos);
+}
+
+TEST_F(Cli, UnknownKeyIsRejected) { expect_rejected({"diffusion", "--set", "diffusivty=1"}, "unknown parameter 'diffusivty'"); }
+TEST_F(Cli, MalformedAssignmentIsRejected) { expect_rejected({"diffusion", "--set", "diffusivity"}, "key=value"); }
+TEST_F(Cli, UnknownOptionIsRejected) { expect_rejected({"diffusion", "--bogus"}, "bogus"); }
+TEST_F(Cli, UnknownSceneIsRejected) { expect_rejected({"study", "no-such-scene", "--sweep", "resolution=1,2"}, "unknown scene"); }
+TEST_F(Cli, ZeroResolutionIsRejected) { expect_rejected({"diffusion", "--resolution", "0"}, "'resolution'"); }
+TEST_F(Cli, NegativeResolutionIsRejected) { expect_rejected({"diffusion-aniso", "--resolution", "-5"}, "must be > 0"); }
+TEST_F(Cli, NonIntegerResolutionIsRejected) { expect_rejected({"diffusion", "--resolution", "12.5"}, "not an integer"); }
+TEST_F(Cli, ZeroEndTimeIsRejected) { expect_rejected({"diffusion", "--end-time", "0"}, "'end_time'"); }
+TEST_F(Cli, NegativeEndTimeIsRejected) { expect_rejected({"diffusion", "--end-time", "-1"}, "'end_time'"); }
+TEST_F(Cli, NotANumberIsRejected) { expect_rejected({"diffusion", "--end-time", "soon"}, "is not a number"); }
+TEST_F(Cli, NegativeDiffusivityIsRejected) { expect_rejected({"diffusion", "--set", "diffusivity=-1e-4"}, "'diffusivity'"); }
+TEST_F(Cli, ZeroDiffusivityIsRejected) { expect_rejected({"diffusion", "--set", "diffusivity=0"}, "'diffusivity'"); }
+TEST_F(Cli, NegativeAnisotropicDiffusivityIsRejected) {
+  expect_rejected({"diffusion-aniso", "--set", "diffusivity_longitudinal=-1"}, "'diffusivity_longitudinal'");
+}
+TEST_F(Cli, TensorThatIsNotPositiveDefiniteIsRejected) {
+  expect_rejected({"diffusion-aniso", "--set", "diffusivity_transverse=0"}, "not positive definite");
+}
+TEST_F(Cli, UnknownChoiceIsRejected) { expect_rejected({"diffusion", "--set", "kernel=gauss"}, "must be one of"); }
+TEST_F(Cli, MissingConfigIsRejected) {
+  expect_rejected({"diffusion", "--config", (folder_ / "missing.toml").string()}, "cannot be read");
+}
+TEST_F(Cli, UnreadableConfigIsRejected) {
+  fs::create_directories(folder_ / "folder.toml");
+  expect_rejected({"diffusion", "--config", (folder_ / "folder.toml").string()}, "folder.toml");
+}
+TEST_F(Cli, BrokenTomlIsRejected) {
+  expect_rejected({"diffusion", "--config", write("broken.toml", "diffusivity = = 3\n").string()}, "not valid TOML");
+}
+TEST_F(Cli, BrokenJsonIsRejected) {
+  expect_rejected({"diffusion", "--config", write("broken.json", "{\"diffusivity\": }").string()}, "not valid JSON");
+}
+TEST_F(Cli, UnknownKeyInConfigIsRejected) {
+  expect_rejected({"diffusion", "--config", write("c.toml", "[numerics]\ncfl = 0.5\n").string()},
+                  "unknown parameter 'numerics.cfl'");
+}
+TEST_F(Cli, OutOfRangeValueInConfigIsRejected) {
+  expect_rejected({"diffusion", "--config", write("c.json", "{\"cfl\": 1.5}").string()}, "c.json");
+}
+TEST_F(Cli, ForeignOutputFolderIsNotOverwritten) {
+  const fs::path out = folder_ / "mine";
+  fs::create_directories(out);
+  write("mine/notes.txt", "keep me");
+  EXPECT_EQ(run({"diffusion", "--output", out.string(), "--resolution", "10"}), 2);
+  EXPECT_TRUE(fs::exists(out / "notes.txt"));
+}
+
+TEST_F(Cli, RunWritesTheContractFiles) {
+  const fs::path config = write("c.toml", "diffusivity = 2e-4\nintegrator = \"forward_euler\"\n");
+  const fs::path out = folder_ / "run";
+  ASSERT_EQ(run({"diffusion", "--output", out.string(), "--config", config.string(), "--resolution", "20", "--end-time",
+                 "2", "--set", "output_interval=1", "--threads", "2", "--quiet"}),
+            0)
+      << stderr_;
+  nlohmann::json report = nlohmann::json::parse(std::ifstream(out / "report.json"));
+  for (const char* key : {"scene", "status", "wall_time_s", "simulated_time", "steps", "particles", "parameters",
+                          "results", "errors", "reference"})
+    EXPECT_TRUE(report.contains(key)) << key;
+  EXPECT_EQ(report["status"], "completed");
+  EXPECT_EQ(report["parameters"]["diffusivity"], 2e-4);
+  EXPECT_EQ(report["parameters"]["resolution"], 20);
+  EXPECT_EQ(report["particles"]["tissue"], 20 * 4);
+  EXPECT_TRUE(fs::exists(out / "tissue.pvd"));
+  EXPECT_TRUE(fs::exists(out / "tissue_00002.vtu"));  // t = 0, 1, 2
+  EXPECT_TRUE(fs::exists(out / "observers.csv"));
+  EXPECT_FALSE(fs::exists(out.string() + ".partial"));
+  // A second run into the same folder replaces the earlier one.
+  EXPECT_EQ(run({"diffusion", "--output", out.string(), "--resolution", "10", "--end-time", "1", "--quiet"}), 0);
+  EXPECT_FALSE(fs::exists(out / "tissue_00002.vtu"));
+}
+
+TEST_F(Cli, StudyWritesTableAndOrders) {
+  const fs::path out = folder_ / "study";
+  ASSERT_EQ(run({"study", "diffusion", "--sweep", "resolution=20,40", "--output", out.string(), "--quiet"}), 0) << stderr_;
+  EXPECT_TRUE(fs::exists(out / "study.csv"));
+  EXPECT_TRUE(fs::exists(out / "resolution-20" / "report.json"));
+  EXPECT_NE(stdout_.find("observed order"), std::string::npos);
+  std::ifstream csv(out / "study.csv");
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_EQ(header, "resolution,particles,steps,threads,wall_time_s,l2_relative,max_abs");
+}
+
+TEST_F(Cli, BadSweepIsRejected) { expect_rejected({"study", "diffusion", "--sweep", "resolution=10"}, "at least two"); }
+TEST_F(Cli, BadSweepValueIsRejectedBeforeAnyRun) {
+  expect_rejected({"study", "diffusion", "--sweep", "resolution=10,-3"}, "'resolution'");
+}
+
+}  // namespace

@@ -1,0 +1,112 @@
+// Neighbour search: the cell-linked-list relations hold exactly the brute-force neighbour sets on
+// random and lattice particles in 2D and 3D, including particles exactly on cell faces, for inner
+// and contact relations; cached pair data agree with direct evaluation.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "libsph/core/neighbour_relation.hpp"
+
+namespace {
+
+using sph::Index;
+using sph::Real;
+
+Real uniform(std::mt19937_64& engine) { return static_cast<Real>(engine() >> 11) * 0x1.0p-53; }
+
+template <int Dim>
+std::vector<sph::Vec<Dim>> random_points(std::size_t n, Real extent, std::uint64_t seed) {
+  std::mt19937_64 engine(seed);
+  std::vector<sph::Vec<Dim>> points(n);
+  for (auto& x : points)
+    for (int d = 0; d < Dim; ++d) x[d] = extent * uniform(engine);
+  return points;
+}
+
+// Points on a lattice whose spacing divides the support radius, so that many points sit exactly
+// on cell faces and many pairs are exactly one support radius apart.
+template <int Dim>
+std::vector<sph::Vec<Dim>> face_points(int per_side, Real spacing) {
+  std::vector<sph::Vec<Dim>> points;
+  const int nz = Dim == 2 ? 1 : per_side;
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < per_side; ++j)
+      for (int i = 0; i < per_side; ++i) {
+        sph::Vec<Dim> x;
+        x[0] = i * spacing;
+        x[1] = j * spacing;
+        if constexpr (Dim == 3) x[2] = k * spacing;
+        points.push_back(x);
+      }
+  return points;
+}
+
+template <int Dim>
+void expect_same_sets(const sph::NeighbourList<Dim>& relation, const std::vector<std::vector<Index>>& expected) {
+  ASSERT_EQ(relation.n_targets(), expected.size());
+  std::size_t pairs = 0;
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    std::vector<Index> row(relation.neighbour.begin() + relation.offsets[i],
+                           relation.neighbour.begin() + relation.offsets[i + 1]);
+    std::sort(row.begin(), row.end());
+    ASSERT_EQ(row, expected[i]) << "target " << i;
+    pairs += row.size();
+  }
+  EXPECT_EQ(pairs, relation.n_pairs());
+  EXPECT_GT(pairs, 0u);
+}
+
+template <int Dim>
+void check_inner(const std::vector<sph::Vec<Dim>>& points, Real h) {
+  const auto relation = sph::build_inner_relation<Dim>(points, sph::WendlandC2<Dim>{}, h);
+  expect_same_sets(relation, sph::brute_force_neighbours<Dim>(points, points, 2 * h, true));
+  // Cached pair data.
+  for (std::size_t i = 0; i < points.size(); i += 7)
+    for (std::size_t k = relation.offsets[i]; k < relation.offsets[i + 1]; ++k) {
+      const auto j = relation.neighbour[k];
+      const sph::Vec<Dim> x_ij = points[i] - points[j];
+      const Real r = x_ij.norm();
+      ASSERT_NEAR(relation.distance[k], r, 1e-14);
+      ASSERT_NEAR(relation.kernel_value[k], sph::WendlandC2<Dim>::value(r, h), 1e-12);
+      ASSERT_NEAR(relation.kernel_derivative[k], sph::WendlandC2<Dim>::derivative(r, h), 1e-12);
+      ASSERT_LT((relation.unit_vector[k] - x_ij / r).norm(), 1e-12);
+    }
+}
+
+TEST(NeighbourSearch, Random2D) { check_inner<2>(random_points<2>(3000, 1.0, 342343901), 0.013); }
+TEST(NeighbourSearch, Random3D) { check_inner<3>(random_points<3>(4000, 1.0, 342343902), 0.04); }
+TEST(NeighbourSearch, LatticeOnCellFaces2D) { check_inner<2>(face_points<2>(40, 0.25), 0.5); }
+TEST(NeighbourSearch, LatticeOnCellFaces3D) { check_inner<3>(face_points<3>(14, 0.25), 0.5); }
+TEST(NeighbourSearch, ClusteredAndCoincident3D) {
+  auto points = random_points<3>(500, 0.05, 7);  // dense cluster
+  const auto far = random_points<3>(300, 3.0, 8);
+  points.insert(points.end(), far.begin(), far.end());
+  points.push_back(points[3]);  // a coincident pair
+  check_inner<3>(points, 0.1);
+}
+
+template <int Dim>
+void check_contact(Real extent_targets, Real extent_sources, Real h, std::uint64_t seed) {
+  const auto targets = random_points<Dim>(800, extent_targets, seed);
+  auto sources = random_points<Dim>(1500, extent_sources, seed + 1);
+  sources.push_back(targets[0]);  // a source at the same place as a target
+  const auto relation = sph::build_contact_relation<Dim>(targets, sources, sph::CubicSplineM4<Dim>{}, h);
+  expect_same_sets(relation, sph::brute_force_neighbours<Dim>(targets, sources, 2 * h, false));
+}
+
+TEST(NeighbourSearch, Contact2D) { check_contact<2>(1.0, 0.6, 0.02, 11); }
+TEST(NeighbourSearch, Contact3D) { check_contact<3>(1.0, 0.6, 0.06, 12); }
+// Targets well outside the sources' bounding box have no neighbours and must not break the search.
+TEST(NeighbourSearch, ContactTargetsOutsideSources) {
+  std::vector<sph::Vec<3>> targets{sph::Vec<3>(50, 50, 50), sph::Vec<3>(-1e6, 0, 0), sph::Vec<3>(0.5, 0.5, 0.5)};
+  const auto sources = random_points<3>(1000, 1.0, 5);
+  const auto relation = sph::build_contact_relation<3>(targets, sources, sph::WendlandC2<3>{}, 0.05);
+  EXPECT_EQ(relation.n_neighbours(0), 0u);
+  EXPECT_EQ(relation.n_neighbours(1), 0u);
+  const auto expected = sph::brute_force_neighbours<3>(targets, sources, 0.1, false);
+  EXPECT_EQ(relation.n_neighbours(2), expected[2].size());
+  EXPECT_GT(expected[2].size(), 0u);
+}
+
+}  // namespace

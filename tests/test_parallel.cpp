@@ -1,0 +1,67 @@
+// Results are bitwise identical with 1 and 2 threads: neighbour lists, reductions and a run of
+// the diffusion system (every particle loop is a gather; sums use fixed blocks).
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+
+#include "geometry/lattice.hpp"
+#include "libsph/core/neighbour_relation.hpp"
+#include "libsph/core/parallel.hpp"
+#include "libsph/diffusion/diffusion_system.hpp"
+
+namespace {
+
+using sph::Real;
+
+struct Outcome {
+  std::vector<std::size_t> offsets;
+  std::vector<sph::Index> neighbours;
+  std::vector<Real> kernel_values;
+  Real sum = 0;
+  std::vector<Real> field;
+};
+
+Outcome compute(std::size_t threads) {
+  sph::ThreadLimit limit(threads);
+  EXPECT_EQ(sph::active_thread_count(), threads);
+  auto body = geometry::lattice_box<3>("cube", sph::Vec<3>::Zero(), sph::Vec<3>::Constant(1), 1.0 / 24);
+  std::mt19937_64 engine(342343901);
+  for (auto& x : body.position)
+    for (int d = 0; d < 3; ++d) x[d] += (static_cast<Real>(engine() >> 11) * 0x1.0p-53 - 0.5) * 0.01;
+  const auto relation = sph::build_inner_relation<3>(body.position, sph::WendlandC2<3>{}, 1.3 / 24);
+  sph::ScalarDiffusionSystem<3>::Settings settings;
+  settings.diffusion_tensor = {sph::Mat<3>(sph::Vec<3>(1e-3, 2e-4, 5e-4).asDiagonal())};
+  sph::ScalarDiffusionSystem<3> diffusion(body, relation, settings);
+  auto C = body.field(diffusion.value_field());
+  for (std::size_t i = 0; i < C.size(); ++i) C[i] = std::sin(7 * body.position[i][0]) * body.position[i][1];
+  for (int step = 0; step < 20; ++step) diffusion.advance(step * 0.1, diffusion.stable_time_step());
+  Outcome out{relation.offsets, relation.neighbour, relation.kernel_value, 0, {C.begin(), C.end()}};
+  out.sum = sph::parallel_sum(C.size(), Real(0), [&](std::size_t i) { return C[i] * body.volume[i]; });
+  return out;
+}
+
+template <class T>
+bool bitwise_equal(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
+
+TEST(Determinism, OneAndTwoThreadsGiveBitwiseIdenticalResults) {
+  const Outcome one = compute(1), two = compute(2);
+  EXPECT_TRUE(bitwise_equal(one.offsets, two.offsets));
+  EXPECT_TRUE(bitwise_equal(one.neighbours, two.neighbours));
+  EXPECT_TRUE(bitwise_equal(one.kernel_values, two.kernel_values));
+  EXPECT_TRUE(bitwise_equal(one.field, two.field));
+  EXPECT_EQ(std::memcmp(&one.sum, &two.sum, sizeof(Real)), 0);
+  EXPECT_GT(one.field.size(), 10000u);
+}
+
+TEST(ParallelHelpers, FirstIndexWhereFindsTheLowestIndex) {
+  sph::ThreadLimit limit(2);
+  std::vector<int> flags(100000, 0);
+  flags[70001] = flags[5003] = flags[99999] = 1;
+  EXPECT_EQ(sph::first_index_where(flags.size(), [&](std::size_t i) { return flags[i] == 1; }), 5003u);
+  EXPECT_EQ(sph::first_index_where(flags.size(), [&](std::size_t) { return false; }), flags.size());
+}
+
+}  // namespace

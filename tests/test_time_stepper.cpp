@@ -1,0 +1,71 @@
+// The time stepper: exact event times, the end time hit exactly, callbacks at start and end,
+// steps evened out before events, sub-cycling, and time-step collapse stops the run.
+#include <gtest/gtest.h>
+
+#include "libsph/core/time_stepper.hpp"
+
+namespace {
+
+using sph::Real;
+
+TEST(TimeStepper, HitsOutputTimesAndTheEndExactly) {
+  sph::TimeStepper stepper(0, 1);
+  Real advanced = 0;
+  std::vector<Real> steps;
+  stepper.add_stage({"s", [] { return Real(0.03); }, [&](Real, Real dt) { advanced += dt; steps.push_back(dt); }});
+  std::vector<Real> outputs;
+  stepper.add_periodic_callback(0.25, [&](const sph::StepInfo& s) { outputs.push_back(s.time); });
+  const auto n = stepper.run();
+  ASSERT_EQ(outputs.size(), 5u);
+  for (int k = 0; k < 5; ++k) EXPECT_EQ(outputs[k], 0.25 * k);  // exact, not accumulated
+  EXPECT_NEAR(advanced, 1.0, 1e-14);
+  EXPECT_EQ(n, steps.size());
+  EXPECT_EQ(n, 4u * 9u);  // ceil(0.25 / 0.03) = 9 equal steps per output interval
+  for (Real dt : steps) EXPECT_LE(dt, 0.03);
+  for (Real dt : steps) EXPECT_NEAR(dt, 0.25 / 9, 1e-15);
+}
+
+TEST(TimeStepper, SamplingCallbacksDoNotShortenSteps) {
+  sph::TimeStepper stepper(0, 1);
+  std::size_t sampled = 0;
+  stepper.add_stage({"s", [] { return Real(0.3); }, [](Real, Real) {}});
+  stepper.add_periodic_callback(0.1, [&](const sph::StepInfo&) { ++sampled; }, false);
+  EXPECT_EQ(stepper.run(), 4u);  // ceil(1 / 0.3) steps of 0.25
+  EXPECT_EQ(sampled, 5u);        // start, after each step
+}
+
+TEST(TimeStepper, FinalStateIsSeenWhenTheIntervalDoesNotDivideTheRun) {
+  sph::TimeStepper stepper(0, 1);
+  stepper.add_stage({"s", [] { return Real(0.01); }, [](Real, Real) {}});
+  std::vector<Real> outputs;
+  stepper.add_periodic_callback(0.3, [&](const sph::StepInfo& s) { outputs.push_back(s.time); });
+  stepper.run();
+  ASSERT_EQ(outputs.size(), 5u);  // 0, 0.3, 0.6, 0.9 and the end
+  EXPECT_EQ(outputs.back(), 1.0);
+}
+
+TEST(TimeStepper, SubCycledStageTakesEqualSubSteps) {
+  sph::TimeStepper stepper(0, 1);
+  std::size_t macro = 0, sub = 0;
+  Real sub_time = 0;
+  stepper.add_stage({"slow", [] { return Real(0.1); }, [&](Real, Real) { ++macro; }});
+  stepper.add_stage({"fast", [] { return Real(0.03); }, [&](Real, Real dt) { ++sub; sub_time += dt; }, true});
+  stepper.run();
+  EXPECT_EQ(macro, 10u);
+  EXPECT_EQ(sub, 40u);  // ceil(0.1 / 0.03) = 4 per macro step
+  EXPECT_NEAR(sub_time, 1.0, 1e-14);
+}
+
+TEST(TimeStepper, TimeStepCollapseStopsTheRun) {
+  sph::TimeStepper stepper(0, 1);
+  int calls = 0;
+  stepper.add_stage({"collapsing", [&] { return calls++ < 3 ? Real(0.1) : Real(0); }, [](Real, Real) {}});
+  try {
+    stepper.run();
+    FAIL() << "collapse not detected";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("time-step collapse in stage 'collapsing'"), std::string::npos);
+  }
+}
+
+}  // namespace
