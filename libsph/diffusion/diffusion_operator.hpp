@@ -8,8 +8,9 @@
 // with d the dimension and D_ij = (D_i + D_j) / 2. For D = kappa I this is the Brookshaw (1985)
 // Laplacian 2 kappa sum_j V_j F_ij / r_ij (C_j - C_i). The bracket is the weighting that makes the
 // sum reproduce D : grad grad C for an isotropic kernel (Espanol & Revenga 2003, Phys. Rev. E
-// 67:026705; derived here from the fourth moment of the kernel, see docs/diffusion.md); Tran-Duc, Phan-Thien & Khoo 2016 (Int. J. Numer. Meth. Fluids 82:730,
-// doi:10.1002/fld.4238) obtain anisotropic SPH diffusion by the coordinate transform x' = D^{-1/2} x.
+// 67:026705; derived from the fourth moment of the kernel in docs/diffusion.md). Tran-Duc,
+// Phan-Thien & Khoo 2016 (Int. J. Numer. Meth. Fluids 82:730, doi:10.1002/fld.4238) obtain
+// anisotropic SPH diffusion by the coordinate transform x' = D^{-1/2} x.
 //
 // Corrections (DiffusionCorrection):
 // - none: D_ij as above.
