@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -46,63 +47,44 @@ void sequential_for(std::size_t n, Body&& body) {
   for (std::size_t i = 0; i != n; ++i) body(i);
 }
 
-/// Sum of term(i) over [0, n), reproducible bit for bit for any thread count: the range is cut into
-/// fixed blocks, each block is summed in index order, then the block sums are added in block order.
-template <class T, class Term>
-T parallel_sum(std::size_t n, T zero, Term&& term) {
+/// Reduction of term(i) over [0, n) with an associative `combine`, reproducible bit for bit for
+/// any thread count: the range is cut into fixed blocks, each block is reduced in index order,
+/// then the block results are combined in block order.
+template <class T, class Term, class Combine>
+T parallel_reduce(std::size_t n, T identity, Term&& term, Combine&& combine) {
   constexpr std::size_t block = 4096;
   const std::size_t n_blocks = (n + block - 1) / block;
-  std::vector<T> partial(n_blocks, zero);
+  std::vector<T> partial(n_blocks, identity);
   parallel_for(n_blocks, [&](std::size_t b) {
-    T sum = zero;
+    T value = identity;
     const std::size_t end = std::min(n, (b + 1) * block);
-    for (std::size_t i = b * block; i < end; ++i) sum += term(i);
-    partial[b] = sum;
+    for (std::size_t i = b * block; i < end; ++i) value = combine(value, term(i));
+    partial[b] = value;
   });
-  T total = zero;
-  for (const T& p : partial) total += p;
+  T total = identity;
+  for (const T& p : partial) total = combine(total, p);
   return total;
 }
 
-/// Maximum of term(i) over [0, n) (order-independent, hence reproducible); `lowest` if n == 0.
+/// Sum of term(i) over [0, n) (reproducible, see parallel_reduce).
 template <class T, class Term>
-T parallel_max(std::size_t n, T lowest, Term&& term) {
-  constexpr std::size_t block = 4096;
-  const std::size_t n_blocks = (n + block - 1) / block;
-  std::vector<T> partial(n_blocks, lowest);
-  parallel_for(n_blocks, [&](std::size_t b) {
-    T m = lowest;
-    const std::size_t end = std::min(n, (b + 1) * block);
-    for (std::size_t i = b * block; i < end; ++i) m = std::max(m, term(i));
-    partial[b] = m;
-  });
-  T result = lowest;
-  for (const T& p : partial) result = std::max(result, p);
-  return result;
+T parallel_sum(std::size_t n, T zero, Term&& term) {
+  return parallel_reduce(n, zero, std::forward<Term>(term), [](const T& a, const T& b) { return a + b; });
 }
 
-}  // namespace sph
+/// Maximum of term(i) over [0, n); `lowest` if n == 0.
+template <class T, class Term>
+T parallel_max(std::size_t n, T lowest, Term&& term) {
+  return parallel_reduce(n, lowest, std::forward<Term>(term), [](const T& a, const T& b) { return std::max(a, b); });
+}
 
-namespace sph {
-
-/// Smallest i in [0, n) with predicate(i) true, or n if there is none (reproducible: the lowest
-/// index wins whatever the thread count). Used to name the first particle whose state is invalid.
+/// Smallest i in [0, n) with predicate(i) true, or n if there is none (the lowest index wins
+/// whatever the thread count). Used to name the first particle whose state is invalid.
 template <class Predicate>
 std::size_t first_index_where(std::size_t n, Predicate&& predicate) {
-  constexpr std::size_t block = 4096;
-  const std::size_t n_blocks = (n + block - 1) / block;
-  std::vector<std::size_t> first(n_blocks, n);
-  parallel_for(n_blocks, [&](std::size_t b) {
-    const std::size_t end = std::min(n, (b + 1) * block);
-    for (std::size_t i = b * block; i < end; ++i)
-      if (predicate(i)) {
-        first[b] = i;
-        return;
-      }
-  });
-  for (std::size_t f : first)
-    if (f < n) return f;
-  return n;
+  return parallel_reduce(
+      n, n, [&](std::size_t i) { return predicate(i) ? i : n; },
+      [](std::size_t a, std::size_t b) { return std::min(a, b); });
 }
 
 }  // namespace sph
