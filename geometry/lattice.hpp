@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -13,7 +14,7 @@
 namespace geometry {
 
 /// Particles of spacing `spacing` filling [lower, upper]; the box extent must be a whole number of
-/// spacings in every direction (to a relative tolerance of 1e-9), so that volumes sum exactly.
+/// spacings in every direction (up to round-off), so that volumes sum exactly.
 template <int Dim>
 sph::ParticleSet<Dim> lattice_box(const std::string& name, const sph::Vec<Dim>& lower, const sph::Vec<Dim>& upper,
                                   sph::Real spacing) {
@@ -23,7 +24,8 @@ sph::ParticleSet<Dim> lattice_box(const std::string& name, const sph::Vec<Dim>& 
   for (int d = 0; d < Dim; ++d) {
     const double cells = static_cast<double>((upper[d] - lower[d]) / spacing);
     count[d] = std::lround(cells);
-    if (count[d] < 1 || std::abs(cells - static_cast<double>(count[d])) > 1e-9 * std::max(1.0, cells))
+    const double tolerance = std::max(1e-9, 100.0 * std::numeric_limits<sph::Real>::epsilon());
+    if (count[d] < 1 || std::abs(cells - static_cast<double>(count[d])) > tolerance * std::max(1.0, cells))
       throw std::invalid_argument("lattice '" + name + "': box extent is not a whole number of spacings");
     total *= static_cast<std::size_t>(count[d]);
   }

@@ -10,6 +10,7 @@
 #include "libsph/core/numerical_failure.hpp"
 #include "libsph/diffusion/diffusion_operator.hpp"
 #include "libsph/diffusion/diffusion_system.hpp"
+#include "tests/precision.hpp"
 
 namespace {
 
@@ -58,15 +59,16 @@ Real quadratic_error(sph::DiffusionCorrection correction) {
 TEST(DiffusionOperator, MomentCorrectionIsExactOnQuadratics2D) {
   const Real moment = quadratic_error<2>(sph::DiffusionCorrection::moment);
   const Real none = quadratic_error<2>(sph::DiffusionCorrection::none);
-  std::printf("2D relative error of div(D grad C) on a quadratic: moment %.2e (bound 1e-9), none %.2e\n", moment, none);
-  EXPECT_LT(moment, 1e-9);
+  std::printf("2D relative error of div(D grad C) on a quadratic: moment %.2e (bound %.0e), none %.2e\n", moment,
+              test::bound(1e-9, 5e-3), none);
+  EXPECT_LT(moment, test::bound(1e-9, 5e-3));
   EXPECT_GT(none, 1e-3);  // the uncorrected weighting feels the lattice's anisotropic fourth moment
 }
 
 TEST(DiffusionOperator, MomentCorrectionIsExactOnQuadratics3D) {
   const Real moment = quadratic_error<3>(sph::DiffusionCorrection::moment);
-  std::printf("3D relative error of div(D grad C) on a quadratic: moment %.2e (bound 1e-9)\n", moment);
-  EXPECT_LT(moment, 1e-9);
+  std::printf("3D relative error of div(D grad C) on a quadratic: moment %.2e (bound %.0e)\n", moment, test::bound(1e-9, 5e-3));
+  EXPECT_LT(moment, test::bound(1e-9, 5e-3));
 }
 
 TEST(DiffusionOperator, ConservesTheTotalAndIsStableAtItsLimit) {
@@ -91,7 +93,7 @@ TEST(DiffusionOperator, ConservesTheTotalAndIsStableAtItsLimit) {
       total1 += C[i] * particles.volume[i];
       peak = std::max(peak, std::abs(C[i]));
     }
-    EXPECT_NEAR(total1, total0, 1e-12) << "correction " << static_cast<int>(correction);
+    EXPECT_NEAR(total1, total0, test::bound(1e-12, 1e-5)) << "correction " << static_cast<int>(correction);
     EXPECT_LT(peak, 1.5) << "correction " << static_cast<int>(correction);
   }
 }

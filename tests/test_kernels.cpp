@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "libsph/core/kernels.hpp"
+#include "tests/precision.hpp"
 
 namespace {
 
@@ -47,8 +48,9 @@ TYPED_TEST(KernelTest, IntegratesToOne) {
     sum += f * (k == 0 || k == n ? 1 : (k % 2 ? 4 : 2));
   }
   const Real integral = sum * dr / 3;
-  std::printf("integral of W = %.12f (bound |1 - I| < 1e-9)\n", integral);
-  EXPECT_NEAR(integral, 1.0, 1e-9);
+  const double limit = test::bound(1e-9, 1e-4);
+  std::printf("integral of W = %.12f (bound |1 - I| < %.0e)\n", integral, limit);
+  EXPECT_NEAR(integral, 1.0, limit);
 }
 
 // Integral of grad W over a box grid that is not centred on the kernel (so symmetry alone cannot
@@ -76,18 +78,20 @@ TYPED_TEST(KernelTest, GradientIntegratesToZero) {
         magnitude += g.norm();
       }
   const Real relative = sum.norm() / magnitude;
-  std::printf("|sum grad W| / sum |grad W| = %.3e (bound 1e-6)\n", relative);
-  EXPECT_LT(relative, 1e-6);
+  const double limit = test::bound(1e-6, 1e-4);
+  std::printf("|sum grad W| / sum |grad W| = %.3e (bound %.0e)\n", relative, limit);
+  EXPECT_LT(relative, limit);
 }
 
 TYPED_TEST(KernelTest, DerivativeMatchesFiniteDifferenceAndSupportIsCompact) {
   using K = TypeParam;
-  const Real h = 0.5, eps = 1e-6;
+  const Real h = 0.5, eps = static_cast<Real>(test::bound(1e-6, 1e-3));
+  const double tolerance = test::bound(1e-6, 3e-3), identity = test::bound(1e-12, 1e-6);
   for (Real q = 0.05; q < 1.99; q += 0.0731) {
     const Real r = q * h;
     const Real fd = (K::value(r + eps, h) - K::value(r - eps, h)) / (2 * eps);
-    EXPECT_NEAR(K::derivative(r, h), fd, 1e-6 * std::abs(K::value(0, h) / h)) << "q = " << q;
-    EXPECT_NEAR(K::derivative_over_r(r, h) * r, K::derivative(r, h), 1e-12 * std::abs(K::value(0, h) / h));
+    EXPECT_NEAR(K::derivative(r, h), fd, tolerance * std::abs(K::value(0, h) / h)) << "q = " << q;
+    EXPECT_NEAR(K::derivative_over_r(r, h) * r, K::derivative(r, h), identity * std::abs(K::value(0, h) / h));
     EXPECT_LE(K::derivative(r, h), 0.0);
   }
   EXPECT_EQ(K::value(K::support_radius(h), h), 0.0);

@@ -34,6 +34,8 @@ Real TimeStepper::next_event_time() const {
 }
 
 std::size_t TimeStepper::run() {
+  // A quotient that is a whole number up to round-off must not cost an extra step.
+  constexpr Real rounding = Real(16) * std::numeric_limits<Real>::epsilon();
   StepInfo info{start_time_, 0, 0, start_time_, end_time_};
   // Fires the callbacks whose event time has been reached; at the end time every callback fires
   // once more unless it already ran there, so the final state is always seen.
@@ -68,7 +70,7 @@ std::size_t TimeStepper::run() {
     const Real remaining = event - t;
     Real dt = remaining;
     if (std::isfinite(stable) && remaining > stable) {
-      const Real n = std::ceil(remaining / stable * (Real(1) - Real(1e-12)));
+      const Real n = std::ceil(remaining / stable * (Real(1) - rounding));
       dt = remaining / n;
     }
     const bool reaches_event = dt >= remaining;
@@ -78,7 +80,7 @@ std::size_t TimeStepper::run() {
         continue;
       }
       const Real s = stage.stable_time_step();
-      const auto n_sub = static_cast<std::size_t>(std::max(Real(1), std::ceil(dt / s * (Real(1) - Real(1e-12)))));
+      const auto n_sub = static_cast<std::size_t>(std::max(Real(1), std::ceil(dt / s * (Real(1) - rounding))));
       const Real sub = dt / static_cast<Real>(n_sub);
       for (std::size_t k = 0; k < n_sub; ++k) stage.advance(t + static_cast<Real>(k) * sub, sub);
     }

@@ -74,7 +74,7 @@ bool Range::contains(double v) const {
 std::string Range::describe() const {
   const bool has_min = std::isfinite(min), has_max = std::isfinite(max);
   if (has_min && has_max)
-    return std::string(min_open ? "(" : "[") + format_number(min) + ", " + format_number(max) + (max_open ? ")" : "]");
+    return std::string(min_open ? "in (" : "in [") + format_number(min) + ", " + format_number(max) + (max_open ? ")" : "]");
   if (has_min) return std::string(min_open ? "> " : ">= ") + format_number(min);
   if (has_max) return std::string(max_open ? "< " : "<= ") + format_number(max);
   return "any finite value";
@@ -91,7 +91,7 @@ void Parameters::add(const std::string& key, double& value, const std::string& u
   auto check = [key, range, unit](double v, const std::string& origin) {
     if (!std::isfinite(v) || !range.contains(v))
       throw ParameterError("parameter " + quoted(key) + where(origin) + " = " + format_number(v) + ": must be " +
-                           range.describe() + (unit.empty() ? "" : " [" + unit + "]"));
+                           range.describe() + (unit.empty() || unit == "-" ? "" : " [" + unit + "]"));
   };
   e.parse = [&value, key, check](const std::string& text, const std::string& origin) {
     const double v = parse_double(key, text, origin);
@@ -110,7 +110,7 @@ void Parameters::add(const std::string& key, long& value, const std::string& uni
   auto check = [key, range, unit](long v, const std::string& origin) {
     if (!range.contains(static_cast<double>(v)))
       throw ParameterError("parameter " + quoted(key) + where(origin) + " = " + std::to_string(v) + ": must be " +
-                           range.describe() + (unit.empty() ? "" : " [" + unit + "]"));
+                           range.describe() + (unit.empty() || unit == "-" ? "" : " [" + unit + "]"));
   };
   e.parse = [&value, key, check](const std::string& text, const std::string& origin) {
     const double v = parse_double(key, text, origin);
