@@ -1,0 +1,360 @@
+#include "libsph/solid/elastic_solid.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "libsph/core/correction_matrix.hpp"
+#include "libsph/core/numerical_failure.hpp"
+#include "libsph/core/parallel.hpp"
+
+namespace sph {
+
+template <int Dim>
+ElasticSolid<Dim>::ElasticSolid(ParticleSet<Dim>& particles, const InnerRelation<Dim>& relation, Settings settings)
+    : particles_(particles), relation_(relation), settings_(std::move(settings)) {
+  const std::string body = "solid '" + particles_.name() + "'";
+  if (relation_.n_targets() != particles_.n_particles())
+    throw std::invalid_argument(body + ": relation does not match the particles");
+  if (!(settings_.density > 0)) throw std::invalid_argument(body + ": density must be positive");
+  if (!(settings_.cfl > 0 && settings_.cfl <= 1)) throw std::invalid_argument(body + ": cfl must lie in (0, 1]");
+  if (!(settings_.hourglass_coefficient >= 0)) throw std::invalid_argument(body + ": hourglass coefficient must be >= 0");
+  if (!(settings_.damping_rate >= 0)) throw std::invalid_argument(body + ": damping rate must be >= 0");
+  check_material<Dim>(settings_.material);
+
+  const Real wave_modulus = std::visit([](const auto& m) { return m.wave_modulus(); }, settings_.material);
+  sound_speed_ = std::sqrt(wave_modulus / settings_.density);
+  hourglass_modulus_ = young_modulus_estimate<Dim>(settings_.material);
+
+  const std::size_t n = particles_.n_particles();
+  reference_position_ = particles_.template register_field<Vec<Dim>>("reference_position", Vec<Dim>::Zero(), false);
+  std::copy(particles_.position.begin(), particles_.position.end(), particles_.field(reference_position_).begin());
+  velocity_ = particles_.template register_field<Vec<Dim>>("velocity", Vec<Dim>::Zero());
+  acceleration_ = particles_.template register_field<Vec<Dim>>("acceleration", Vec<Dim>::Zero(), false);
+  displacement_ = particles_.template register_field<Vec<Dim>>("displacement", Vec<Dim>::Zero());
+  jacobian_ = particles_.template register_field<Real>("jacobian", Real(1));
+  von_mises_ = particles_.template register_field<Real>("von_mises_stress", Real(0));
+  deformation_gradient_ = particles_.template register_field<Mat<Dim>>("deformation_gradient", Mat<Dim>::Identity(), false);
+  correction_matrix_ = particles_.template register_field<Mat<Dim>>("correction_matrix", Mat<Dim>::Identity(), false);
+  stress_correction_ = particles_.template register_field<Mat<Dim>>("stress_times_correction", Mat<Dim>::Zero(), false);
+  const bool anisotropic = std::visit([](const auto& m) { return std::decay_t<decltype(m)>::anisotropic; }, settings_.material);
+  if (anisotropic) {
+    const Vec<Dim> f = settings_.fiber.normalized(), s = settings_.sheet.normalized();
+    if (!(std::abs(f.dot(s)) < Real(1e-6)) || !f.allFinite() || !s.allFinite())
+      throw std::invalid_argument(body + ": fibre and sheet directions must be non-zero and orthogonal");
+    fiber_ = particles_.template register_field<Vec<Dim>>("fiber_direction", f);
+    sheet_ = particles_.template register_field<Vec<Dim>>("sheet_direction", s);
+    fiber_stretch_ = particles_.template register_field<Real>("fiber_stretch", Real(1));
+  }
+  compute_correction_matrix<Dim>(relation_, particles_.volume, particles_.field(correction_matrix_));
+  previous_position_.resize(n);
+  previous_velocity_.resize(n);
+}
+
+template <int Dim>
+void ElasticSolid<Dim>::check_indices(const std::vector<Index>& particles, const char* what) const {
+  for (const Index i : particles)
+    if (i >= particles_.n_particles())
+      throw std::invalid_argument("solid '" + particles_.name() + "': " + what + " names particle " +
+                                  std::to_string(i) + " of " + std::to_string(particles_.n_particles()));
+}
+
+template <int Dim>
+void ElasticSolid<Dim>::clamp(std::vector<Index> particles) {
+  check_indices(particles, "clamp");
+  clamped_.insert(clamped_.end(), particles.begin(), particles.end());
+}
+
+template <int Dim>
+void ElasticSolid<Dim>::slide(std::vector<Index> particles, int component) {
+  check_indices(particles, "slide");
+  if (component < 0 || component >= Dim) throw std::invalid_argument("solid: sliding component out of range");
+  sliding_.emplace_back(std::move(particles), component);
+}
+
+template <int Dim>
+void ElasticSolid<Dim>::prescribe_motion(std::vector<Index> particles, Motion position, Motion velocity) {
+  check_indices(particles, "prescribed motion");
+  prescribed_.push_back({std::move(particles), std::move(position), std::move(velocity)});
+}
+
+template <int Dim>
+void ElasticSolid<Dim>::add_pressure_load(std::vector<Index> particles, std::vector<Vec<Dim>> area_normal,
+                                          std::function<Real(Real)> pressure) {
+  check_indices(particles, "pressure load");
+  if (area_normal.size() != particles.size()) throw std::invalid_argument("solid: one area normal per loaded particle");
+  pressure_loads_.push_back({std::move(particles), std::move(area_normal), std::move(pressure)});
+}
+
+template <int Dim>
+void ElasticSolid<Dim>::add_traction_load(std::vector<Index> particles, std::vector<Real> area,
+                                          std::function<Vec<Dim>(Real)> traction) {
+  check_indices(particles, "traction load");
+  if (area.size() != particles.size()) throw std::invalid_argument("solid: one area per loaded particle");
+  traction_loads_.push_back({std::move(particles), std::move(area), std::move(traction)});
+}
+
+template <int Dim>
+void ElasticSolid<Dim>::compute_deformation_gradient() {
+  const auto& x = particles_.position;
+  const auto& V = particles_.volume;
+  const auto B = particles_.field(correction_matrix_);
+  auto F = particles_.field(deformation_gradient_);
+  const auto& rel = relation_;
+  parallel_for(particles_.n_particles(), [&](std::size_t i) {
+    // F_i = - sum_j V_j x_ij (x) (B_i grad W_ij) = - (sum_j V_j dW_ij x_ij (x) e_ij) B_i^T
+    Mat<Dim> moment = Mat<Dim>::Zero();
+    for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
+      const Index j = rel.neighbour[k];
+      moment.noalias() += (V[j] * rel.kernel_derivative[k]) * (x[i] - x[j]) * rel.unit_vector[k].transpose();
+    }
+    F[i].noalias() = -moment * B[i].transpose();
+  });
+}
+
+template <int Dim>
+std::size_t ElasticSolid<Dim>::first_invalid_deformation() const {
+  const auto F = particles_.field(deformation_gradient_);
+  return first_index_where(F.size(), [&](std::size_t i) {
+    const Real J = F[i].determinant();
+    return !(J > 0) || !F[i].allFinite();
+  });
+}
+
+template <int Dim>
+void ElasticSolid<Dim>::compute_stress() {
+  const auto F = particles_.field(deformation_gradient_);
+  const auto B = particles_.field(correction_matrix_);
+  auto PB = particles_.field(stress_correction_);
+  std::visit(
+      [&](const auto& law) {
+        using Law = std::decay_t<decltype(law)>;
+        if constexpr (Law::anisotropic) {
+          const auto f = particles_.field(fiber_);
+          const auto s = particles_.field(sheet_);
+          parallel_for(F.size(), [&](std::size_t i) { PB[i].noalias() = F[i] * law.second_piola(F[i], f[i], s[i]) * B[i]; });
+        } else {
+          const Vec<Dim> none = Vec<Dim>::Zero();
+          parallel_for(F.size(), [&](std::size_t i) { PB[i].noalias() = F[i] * law.second_piola(F[i], none, none) * B[i]; });
+        }
+      },
+      settings_.material);
+}
+
+template <int Dim>
+void ElasticSolid<Dim>::compute_acceleration(Real time) {
+  const auto& x = particles_.position;
+  const auto& V = particles_.volume;
+  const auto F = particles_.field(deformation_gradient_);
+  const auto PB = particles_.field(stress_correction_);
+  auto a = particles_.field(acceleration_);
+  const auto& rel = relation_;
+  const Real inverse_density = 1 / settings_.density;
+  const Real hourglass_factor = settings_.hourglass_coefficient / 2 * hourglass_modulus_;
+  const Vec<Dim> g = settings_.body_force;
+  parallel_for(particles_.n_particles(), [&](std::size_t i) {
+    Vec<Dim> stress_force = Vec<Dim>::Zero(), hourglass_force = Vec<Dim>::Zero();
+    for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
+      const Index j = rel.neighbour[k];
+      const Vec<Dim>& e0 = rel.unit_vector[k];
+      stress_force.noalias() += (V[j] * rel.kernel_derivative[k]) * ((PB[i] + PB[j]) * e0);
+      if (hourglass_factor > 0) {
+        const Vec<Dim> X_ij = rel.distance[k] * e0;
+        const Vec<Dim> x_ij = x[i] - x[j];
+        const Real r = x_ij.norm();
+        const Real delta = ((F[i] + F[j]) * X_ij - 2 * x_ij).dot(x_ij) / r;
+        hourglass_force += (V[j] * rel.kernel_value[k] / (rel.distance[k] * rel.distance[k]) * delta / r) * x_ij;
+      }
+    }
+    a[i] = inverse_density * (stress_force + hourglass_factor * hourglass_force) + g;
+  });
+  for (const auto& load : pressure_loads_) {
+    const Real p = load.pressure(time);
+    for (std::size_t k = 0; k < load.particles.size(); ++k) {
+      const Index i = load.particles[k];
+      // Nanson: n da = J F^-T N dA.
+      const Mat<Dim> cofactor = F[i].determinant() * F[i].inverse().transpose();
+      a[i] -= p * (cofactor * load.area_normal[k]) * (inverse_density / V[i]);
+    }
+  }
+  for (const auto& load : traction_loads_) {
+    const Vec<Dim> t = load.traction(time);
+    for (std::size_t k = 0; k < load.particles.size(); ++k) {
+      const Index i = load.particles[k];
+      a[i] += t * (load.area[k] * inverse_density / V[i]);
+    }
+  }
+}
+
+template <int Dim>
+void ElasticSolid<Dim>::apply_position_constraints(Real time) {
+  auto& x = particles_.position;
+  const auto X = particles_.field(reference_position_);
+  for (const Index i : clamped_) x[i] = X[i];
+  for (const auto& [set, component] : sliding_)
+    for (const Index i : set) x[i][component] = X[i][component];
+  for (const auto& motion : prescribed_)
+    for (const Index i : motion.particles) x[i] = motion.position(X[i], time);
+}
+
+template <int Dim>
+void ElasticSolid<Dim>::apply_velocity_constraints(Real time) {
+  auto v = particles_.field(velocity_);
+  const auto X = particles_.field(reference_position_);
+  for (const Index i : clamped_) v[i].setZero();
+  for (const auto& [set, component] : sliding_)
+    for (const Index i : set) v[i][component] = 0;
+  for (const auto& motion : prescribed_)
+    for (const Index i : motion.particles) v[i] = motion.velocity(X[i], time);
+}
+
+template <int Dim>
+void ElasticSolid<Dim>::fail(std::size_t particle, Real time, const std::string& quantity, const std::string& problem) {
+  // Undo the step: the particle set is left in the last good state, consistent with its F.
+  const std::string where = NumericalFailure::format_position(particles_.position[particle]);
+  std::copy(previous_position_.begin(), previous_position_.end(), particles_.position.begin());
+  const auto v = particles_.field(velocity_);
+  std::copy(previous_velocity_.begin(), previous_velocity_.end(), v.begin());
+  update_output_fields();
+  throw NumericalFailure(particles_.name(), particle, where, time, quantity, problem);
+}
+
+template <int Dim>
+void ElasticSolid<Dim>::advance(Real time, Real dt) {
+  auto& x = particles_.position;
+  auto v = particles_.field(velocity_);
+  const auto a = particles_.field(acceleration_);
+  const std::size_t n = particles_.n_particles();
+  const Real half = dt / 2;
+  parallel_for(n, [&](std::size_t i) {
+    previous_position_[i] = x[i];
+    previous_velocity_[i] = v[i];
+    x[i] += half * v[i];
+  });
+  apply_position_constraints(time + half);
+
+  compute_deformation_gradient();
+  if (const std::size_t bad = first_invalid_deformation(); bad < n) {
+    const Real J = particles_.field(deformation_gradient_)[bad].determinant();
+    fail(bad, time + half, "deformation gradient", std::isfinite(J) ? "has J = " + std::to_string(J) + " <= 0 (inverted)" : "is not finite");
+  }
+  compute_stress();
+  compute_acceleration(time + half);
+
+  const Real damping = 1 / (1 + settings_.damping_rate * dt);
+  parallel_for(n, [&](std::size_t i) { v[i] = (v[i] + dt * a[i]) * damping; });
+  apply_velocity_constraints(time + dt);
+  parallel_for(n, [&](std::size_t i) { x[i] += half * v[i]; });
+  apply_position_constraints(time + dt);
+
+  if (const std::size_t bad = first_index_where(n, [&](std::size_t i) { return !a[i].allFinite() || !v[i].allFinite(); }); bad < n)
+    fail(bad, time + dt, a[bad].allFinite() ? "velocity" : "acceleration", "is not finite");
+  max_acceleration_ = parallel_max(n, Real(0), [&](std::size_t i) { return a[i].norm(); });
+}
+
+template <int Dim>
+Real ElasticSolid<Dim>::stable_time_step() const {
+  const auto v = particles_.field(velocity_);
+  const Real max_speed = parallel_max(v.size(), Real(0), [&](std::size_t i) { return v[i].norm(); });
+  const Real h = relation_.smoothing_length;
+  Real dt = h / (sound_speed_ + max_speed);
+  if (max_acceleration_ > 0) dt = std::min(dt, std::sqrt(h / max_acceleration_));
+  return settings_.cfl * dt;
+}
+
+template <int Dim>
+Mat<Dim> ElasticSolid<Dim>::cauchy_stress_of(std::size_t i) const {
+  const Mat<Dim>& F = particles_.field(deformation_gradient_)[i];
+  return std::visit(
+      [&](const auto& law) {
+        using Law = std::decay_t<decltype(law)>;
+        if constexpr (Law::anisotropic)
+          return cauchy_stress<Dim>(law, F, particles_.field(fiber_)[i], particles_.field(sheet_)[i]);
+        else
+          return cauchy_stress<Dim>(law, F, Vec<Dim>::Zero().eval(), Vec<Dim>::Zero().eval());
+      },
+      settings_.material);
+}
+
+template <int Dim>
+void ElasticSolid<Dim>::update_output_fields() {
+  compute_deformation_gradient();
+  const auto F = particles_.field(deformation_gradient_);
+  const auto X = particles_.field(reference_position_);
+  auto u = particles_.field(displacement_);
+  auto J = particles_.field(jacobian_);
+  auto von_mises = particles_.field(von_mises_);
+  parallel_for(particles_.n_particles(), [&](std::size_t i) {
+    u[i] = particles_.position[i] - X[i];
+    J[i] = F[i].determinant();
+    const Mat<Dim> sigma = cauchy_stress_of(i);
+    if constexpr (Dim == 3) {
+      const Mat<Dim> deviator = sigma - sigma.trace() / 3 * Mat<Dim>::Identity();
+      von_mises[i] = std::sqrt(Real(1.5) * deviator.squaredNorm());
+    } else {  // in-plane components only
+      von_mises[i] = std::sqrt(sigma(0, 0) * sigma(0, 0) - sigma(0, 0) * sigma(1, 1) + sigma(1, 1) * sigma(1, 1) +
+                               3 * sigma(0, 1) * sigma(0, 1));
+    }
+  });
+  if (fiber_stretch_.valid()) {
+    const auto f = particles_.field(fiber_);
+    auto stretch = particles_.field(fiber_stretch_);
+    parallel_for(particles_.n_particles(), [&](std::size_t i) { stretch[i] = (F[i] * f[i]).norm(); });
+  }
+}
+
+template <int Dim>
+typename ElasticSolid<Dim>::Energies ElasticSolid<Dim>::energies() {
+  compute_deformation_gradient();
+  const auto F = particles_.field(deformation_gradient_);
+  const auto v = particles_.field(velocity_);
+  const auto& V = particles_.volume;
+  Energies e;
+  e.kinetic = parallel_sum(v.size(), 0.0, [&](std::size_t i) { return 0.5 * settings_.density * V[i] * v[i].squaredNorm(); });
+  std::visit(
+      [&](const auto& law) {
+        using Law = std::decay_t<decltype(law)>;
+        e.strain = parallel_sum(F.size(), 0.0, [&](std::size_t i) {
+          if constexpr (Law::anisotropic)
+            return double(V[i] * law.energy(F[i], particles_.field(fiber_)[i], particles_.field(sheet_)[i]));
+          else
+            return double(V[i] * law.energy(F[i], Vec<Dim>::Zero().eval(), Vec<Dim>::Zero().eval()));
+        });
+      },
+      settings_.material);
+  return e;
+}
+
+template <int Dim>
+double ElasticSolid<Dim>::hourglass_measure() {
+  compute_deformation_gradient();
+  const auto F = particles_.field(deformation_gradient_);
+  const auto& x = particles_.position;
+  const auto& rel = relation_;
+  const double sum = parallel_sum(particles_.n_particles(), 0.0, [&](std::size_t i) {
+    double row = 0;
+    for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
+      const Vec<Dim> X_ij = rel.distance[k] * rel.unit_vector[k];
+      row += (F[i] * X_ij - (x[i] - x[rel.neighbour[k]])).norm() / rel.distance[k];
+    }
+    return row;
+  });
+  return rel.n_pairs() > 0 ? sum / static_cast<double>(rel.n_pairs()) : 0.0;
+}
+
+template <int Dim>
+std::pair<Real, Real> ElasticSolid<Dim>::jacobian_range() {
+  compute_deformation_gradient();
+  const auto F = particles_.field(deformation_gradient_);
+  const Real lowest = parallel_reduce(F.size(), std::numeric_limits<Real>::infinity(),
+                                      [&](std::size_t i) { return F[i].determinant(); },
+                                      [](Real p, Real q) { return std::min(p, q); });
+  const Real highest = parallel_max(F.size(), -std::numeric_limits<Real>::infinity(),
+                                    [&](std::size_t i) { return F[i].determinant(); });
+  return {lowest, highest};
+}
+
+template class ElasticSolid<2>;
+template class ElasticSolid<3>;
+
+}  // namespace sph

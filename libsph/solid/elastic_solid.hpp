@@ -1,0 +1,154 @@
+#pragma once
+// An elastic solid in total-Lagrangian SPH (TLSPH). See docs/solid.md for the equations.
+//
+// Reference configuration X (the positions when the system is built): the inner relation and the
+// kernel-correction matrix B0_i = ( - sum_j V_j X_ij (x) grad0 W_ij )^-1 are computed there once.
+//   Deformation gradient  F_i = - sum_j V_j x_ij (x) (B0_i grad0 W_ij)      (exact for linear motion)
+//   Momentum              rho0 dv_i/dt = sum_j V_j (P_i B0_i + P_j B0_j) grad0 W_ij + f_hg + f_load
+//                         + rho0 g - rho0 c v                                (c: optional damping rate)
+// with P = F S(F) from the material law (material_laws.hpp). The pair term is twice the
+// inter-particle average 1/2 (P_i B0_i + P_j B0_j); with a full neighbourhood it is the corrected
+// divergence of P (Vignjevic, Reveles & Campbell 2006; Zhang et al. 2021, CMAME 381:113847, eq. 25).
+// Hourglass control: the penalty force of Ganzenmueller 2015 (CMAME 286:87, eq. 20),
+//   f_hg,i = alpha/2 sum_j V_i V_j W0_ij E / |X_ij|^2 (delta_ij^i + delta_ij^j) x_ij / |x_ij|,
+//   delta_ij^i = (F_i X_ij - x_ij) . x_ij / |x_ij|,
+// a pairwise antisymmetric force (momentum is conserved) that resists particle motion not
+// described by the local F; E is the small-strain Young's modulus of the law, alpha = 0 disables it.
+//
+// Time integration: position-based Verlet (Zhang, Rezavand & Hu 2021, JCP 429:110028, sec. 3.3):
+//   x += dt/2 v;  F(x), P(F), a;  v = (v + dt a) / (1 + c dt);  x += dt/2 v.
+// The damping is implicit in v, so it is stable for any rate. Stable step (acoustic, sec. 3.3 there):
+//   dt = cfl min( h / (c0 + max|v|), sqrt(h / max|a|) ),  c0 = sqrt(M / rho0), M the P-wave modulus.
+//
+// Fields it registers (written to output unless noted): velocity, displacement, jacobian (J),
+// von_mises_stress, and for the anisotropic laws fiber_direction, sheet_direction and fiber_stretch;
+// not written: reference_position, acceleration, deformation_gradient, correction_matrix and the
+// stress P B0. Displacement, J, von Mises and fibre stretch are filled by update_output_fields().
+//
+// Failure: if any particle gets a non-finite state or J <= 0 the step is undone (positions and
+// velocities restored to the start of the step, the last good state) and NumericalFailure names
+// the particle, its position, the time and the quantity.
+
+#include <functional>
+#include <vector>
+
+#include "libsph/core/neighbour_relation.hpp"
+#include "libsph/core/particles.hpp"
+#include "libsph/solid/material_laws.hpp"
+
+namespace sph {
+
+template <int Dim>
+class ElasticSolid {
+ public:
+  struct Settings {
+    MaterialLaw<Dim> material;
+    Real density = 1;                ///< rho0 [mass/length^3]
+    Real hourglass_coefficient = 0;  ///< alpha of the penalty force; 0 turns it off
+    Real damping_rate = 0;           ///< c [1/time] of dv/dt = ... - c v (quasi-static runs); 0 = none
+    Vec<Dim> body_force = Vec<Dim>::Zero();  ///< g [length/time^2]
+    Real cfl = Real(0.6);                    ///< fraction of the acoustic step, in (0, 1] for stability
+    Vec<Dim> fiber = Vec<Dim>::UnitX();      ///< initial (uniform) fibre direction, anisotropic laws
+    Vec<Dim> sheet = Vec<Dim>::UnitY();      ///< initial (uniform) sheet direction
+  };
+
+  using Motion = std::function<Vec<Dim>(const Vec<Dim>& reference, Real time)>;
+
+  struct Energies {
+    double kinetic = 0, strain = 0;
+    double total() const { return kinetic + strain; }
+  };
+
+  /// The relation must be the inner relation of `particles` built at the current positions (the
+  /// reference configuration) and must outlive the system.
+  ElasticSolid(ParticleSet<Dim>& particles, const InnerRelation<Dim>& relation, Settings settings);
+
+  // Boundary conditions (may be combined; applied in the order clamp, slide, prescribed motion).
+  /// Particles held at their reference positions with zero velocity.
+  void clamp(std::vector<Index> particles);
+  /// Particles whose `component` of position stays at its reference value (sliding support).
+  void slide(std::vector<Index> particles, int component);
+  /// Particles moved along x = position(X, t), v = velocity(X, t).
+  void prescribe_motion(std::vector<Index> particles, Motion position, Motion velocity);
+  /// Follower pressure on surface particles: f_i = - p(t) J F^-T N_i A_i (Nanson's formula), with
+  /// area_normal[k] = N A, the outward unit normal times the area of surface particle k in the
+  /// reference configuration; p > 0 pushes into the body.
+  void add_pressure_load(std::vector<Index> particles, std::vector<Vec<Dim>> area_normal,
+                         std::function<Real(Real time)> pressure);
+  /// Dead traction (force per reference area, fixed direction) on surface particles of areas A_k.
+  void add_traction_load(std::vector<Index> particles, std::vector<Real> area,
+                         std::function<Vec<Dim>(Real time)> traction);
+
+  /// Advances by one position-based Verlet step from `time` by dt (a TimeStepper stage).
+  void advance(Real time, Real dt);
+  /// Stable step from the acoustic and acceleration criteria (see above).
+  Real stable_time_step() const;
+
+  /// Recomputes F at the current positions and fills displacement, J, von Mises stress and fibre stretch.
+  void update_output_fields();
+  /// Kinetic energy sum 1/2 m v^2 and strain energy sum V0 W(F) at the current positions.
+  Energies energies();
+  /// Zero-energy-mode measure: the mean over pairs of |F_i X_ij - x_ij| / |X_ij| at the current positions.
+  double hourglass_measure();
+  /// Smallest and largest J at the current positions.
+  std::pair<Real, Real> jacobian_range();
+
+  FieldHandle<Vec<Dim>> velocity_field() const { return velocity_; }
+  FieldHandle<Vec<Dim>> reference_position_field() const { return reference_position_; }
+  FieldHandle<Vec<Dim>> fiber_field() const { return fiber_; }
+  FieldHandle<Vec<Dim>> sheet_field() const { return sheet_; }
+  FieldHandle<Mat<Dim>> deformation_gradient_field() const { return deformation_gradient_; }
+  /// Cauchy stress of particle i from its current F (after update_output_fields or a step).
+  Mat<Dim> cauchy_stress_of(std::size_t i) const;
+  Real sound_speed() const { return sound_speed_; }
+  const Settings& settings() const { return settings_; }
+  ParticleSet<Dim>& particles() { return particles_; }
+
+ private:
+  struct PrescribedMotion {
+    std::vector<Index> particles;
+    Motion position, velocity;
+  };
+  struct PressureLoad {
+    std::vector<Index> particles;
+    std::vector<Vec<Dim>> area_normal;
+    std::function<Real(Real)> pressure;
+  };
+  struct TractionLoad {
+    std::vector<Index> particles;
+    std::vector<Real> area;
+    std::function<Vec<Dim>(Real)> traction;
+  };
+
+  void check_indices(const std::vector<Index>& particles, const char* what) const;
+  void compute_deformation_gradient();
+  /// First particle with a non-finite F or J <= 0, or n.
+  std::size_t first_invalid_deformation() const;
+  void compute_stress();
+  void compute_acceleration(Real time);
+  void apply_position_constraints(Real time);
+  void apply_velocity_constraints(Real time);
+  [[noreturn]] void fail(std::size_t particle, Real time, const std::string& quantity, const std::string& problem);
+
+  ParticleSet<Dim>& particles_;
+  const InnerRelation<Dim>& relation_;
+  Settings settings_;
+  Real sound_speed_ = 0, hourglass_modulus_ = 0;
+  FieldHandle<Vec<Dim>> reference_position_, velocity_, acceleration_, displacement_, fiber_, sheet_;
+  FieldHandle<Mat<Dim>> deformation_gradient_, correction_matrix_, stress_correction_;
+  FieldHandle<Real> jacobian_, von_mises_, fiber_stretch_;
+
+  std::vector<Index> clamped_;
+  std::vector<std::pair<std::vector<Index>, int>> sliding_;
+  std::vector<PrescribedMotion> prescribed_;
+  std::vector<PressureLoad> pressure_loads_;
+  std::vector<TractionLoad> traction_loads_;
+
+  Real max_acceleration_ = 0;
+  std::vector<Vec<Dim>> previous_position_, previous_velocity_;  // the last good state
+};
+
+extern template class ElasticSolid<2>;
+extern template class ElasticSolid<3>;
+
+}  // namespace sph
