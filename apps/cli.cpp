@@ -70,8 +70,13 @@ int run_cli(int argc, const char* const* argv) {
         for (auto it = result.report.errors.begin(); it != result.report.errors.end(); ++it)
           std::cout << "  errors." << it.key() << " = " << it.value() << '\n';
       }
-      std::cout << "results in " << std::filesystem::absolute(result.output).string()
-                << " (report.json, observers.csv, tissue.pvd for ParaView)\n";
+      std::cout << "results in " << std::filesystem::absolute(result.output).string() << " (report.json";
+      if (std::filesystem::is_directory(result.output))
+        for (const auto& file : std::filesystem::directory_iterator(result.output)) {
+          const auto extension = file.path().extension();
+          if (extension == ".csv" || extension == ".pvd" || extension == ".png") std::cout << ", " << file.path().filename().string();
+        }
+      std::cout << "; open the .pvd files in ParaView)\n";
       return result.exit_code;
     }
   } catch (const sph::ParameterError& error) {

@@ -1,5 +1,6 @@
 #include "apps/scenes/diffusion_scenes.hpp"
 #include "apps/scenes/scene.hpp"
+#include "apps/scenes/solid/solid_scenes.hpp"
 
 namespace cardiosph {
 
@@ -9,6 +10,8 @@ const std::vector<SceneEntry>& scene_registry() {
        [] { return make_diffusion_band_scene(); }},
       {"diffusion-aniso", "2D anisotropic diffusion (ratio 10, at 30 degrees) of a Gaussian, against the exact Gaussian",
        [] { return make_diffusion_gaussian_scene(); }},
+      {"oscillating-beam", "2D plate clamped at one end in its first bending mode, against the thin-plate period",
+       [] { return make_oscillating_beam_scene(); }},
   };
   return scenes;
 }

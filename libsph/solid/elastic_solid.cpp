@@ -19,6 +19,7 @@ ElasticSolid<Dim>::ElasticSolid(ParticleSet<Dim>& particles, const InnerRelation
   if (!(settings_.density > 0)) throw std::invalid_argument(body + ": density must be positive");
   if (!(settings_.cfl > 0 && settings_.cfl <= 1)) throw std::invalid_argument(body + ": cfl must lie in (0, 1]");
   if (!(settings_.hourglass_coefficient >= 0)) throw std::invalid_argument(body + ": hourglass coefficient must be >= 0");
+  if (!(settings_.fixed_time_step >= 0)) throw std::invalid_argument(body + ": fixed time step must be >= 0");
   if (!(settings_.damping_rate >= 0)) throw std::invalid_argument(body + ": damping rate must be >= 0");
   check_material<Dim>(settings_.material);
 
@@ -254,6 +255,7 @@ void ElasticSolid<Dim>::advance(Real time, Real dt) {
 
 template <int Dim>
 Real ElasticSolid<Dim>::stable_time_step() const {
+  if (settings_.fixed_time_step > 0) return settings_.fixed_time_step;
   const auto v = particles_.field(velocity_);
   const Real max_speed = parallel_max(v.size(), Real(0), [&](std::size_t i) { return v[i].norm(); });
   const Real h = relation_.smoothing_length;

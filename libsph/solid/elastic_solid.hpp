@@ -47,7 +47,8 @@ class ElasticSolid {
     Real hourglass_coefficient = 0;  ///< alpha of the penalty force; 0 turns it off
     Real damping_rate = 0;           ///< c [1/time] of dv/dt = ... - c v (quasi-static runs); 0 = none
     Vec<Dim> body_force = Vec<Dim>::Zero();  ///< g [length/time^2]
-    Real cfl = Real(0.6);                    ///< fraction of the acoustic step, in (0, 1] for stability
+    Real cfl = Real(0.6);                    ///< fraction of the acoustic step, in (0, 1]
+    Real fixed_time_step = 0;                ///< > 0 replaces the stable step (no stability guarantee)
     Vec<Dim> fiber = Vec<Dim>::UnitX();      ///< initial (uniform) fibre direction, anisotropic laws
     Vec<Dim> sheet = Vec<Dim>::UnitY();      ///< initial (uniform) sheet direction
   };
@@ -81,7 +82,7 @@ class ElasticSolid {
 
   /// Advances by one position-based Verlet step from `time` by dt (a TimeStepper stage).
   void advance(Real time, Real dt);
-  /// Stable step from the acoustic and acceleration criteria (see above).
+  /// Stable step from the acoustic and acceleration criteria (see above), or the fixed step if set.
   Real stable_time_step() const;
 
   /// Recomputes F at the current positions and fills displacement, J, von Mises stress and fibre stretch.

@@ -1,0 +1,71 @@
+#pragma once
+// What the solid scenes share: their numerical parameters and the run of one elastic body
+// (time loop, particle output, energy series, progress, and on numerical failure the last good
+// state written before the error is passed on).
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "apps/scenes/scene.hpp"
+#include "libsph/core/time_stepper.hpp"
+#include "libsph/solid/elastic_solid.hpp"
+
+namespace cardiosph {
+
+struct SolidNumerics {
+  double smoothing_length_ratio = 1.3;  ///< h / dp
+  std::string kernel = "wendland_c4";
+  double hourglass_coefficient = 0.1;  ///< alpha of Ganzenmueller's penalty force; 0 turns it off
+  double cfl = 0.6;                    ///< fraction of the acoustic time step
+  double time_step = 0;                ///< fixed time step; 0 = the stable (acoustic) step
+  double output_interval = 0;          ///< time between particle outputs; 0 = first and last state
+};
+
+void declare_solid_numerics(sph::Parameters& p, SolidNumerics& n, const std::string& time_unit);
+
+/// Copies the numerical settings into the solid's settings.
+template <int Dim>
+void apply_solid_numerics(const SolidNumerics& n, typename sph::ElasticSolid<Dim>::Settings& settings) {
+  settings.hourglass_coefficient = static_cast<sph::Real>(n.hourglass_coefficient);
+  settings.cfl = static_cast<sph::Real>(n.cfl);
+  settings.fixed_time_step = static_cast<sph::Real>(n.time_step);
+}
+
+struct SolidRunPlan {
+  std::string scene;                 ///< name shown in the progress line
+  std::string body;                  ///< body name of the output files
+  double end_time = 0;
+  double output_interval = 0;        ///< 0: first and last state only
+  double sample_interval = 0;        ///< observers and energies (0: end_time / 200)
+  std::function<void(const sph::StepInfo&)> sample;      ///< observer callback (may be empty)
+  std::function<void(const sph::StepInfo&)> every_step;  ///< after every step (may be empty)
+};
+
+struct SolidRunSummary {
+  std::size_t steps = 0;
+  double initial_energy = 0;
+  double max_energy_drift = 0;  ///< max |E(t) - E(0)| / max(E(0), max E) over the samples
+  double min_jacobian = 1, max_jacobian = 1;
+};
+
+/// Runs the solid from t = 0 to the end time. Writes <body>_*.vtu + <body>.pvd and energy.csv
+/// (time, kinetic, strain, total) into ctx.output_dir; fills steps, particles, memory and time
+/// step in ctx.report. On NumericalFailure the restored last good state is written, then the
+/// error is rethrown (the run ends as failed, exit code 1).
+template <int Dim>
+SolidRunSummary run_solid(sph::ElasticSolid<Dim>& solid, const sph::NeighbourList<Dim>& relation,
+                          const SolidRunPlan& plan, RunContext& ctx);
+
+/// Particles whose reference position satisfies `inside`.
+template <int Dim>
+std::vector<sph::Index> select_particles(const sph::ParticleSet<Dim>& body,
+                                         const std::function<bool(const sph::Vec<Dim>&)>& inside);
+
+/// Position at the reference point P of a solid by a first-order (linear) reconstruction from the
+/// particles within one support of P: x(P) = sum_i w_i (x_i + F_i (P - X_i)) / sum_i w_i, w = W(|P - X_i|).
+template <int Dim>
+sph::Vec<Dim> deformed_position_of(sph::ElasticSolid<Dim>& solid, const sph::AnyKernel<Dim>& kernel,
+                                   sph::Real smoothing_length, const sph::Vec<Dim>& reference_point);
+
+}  // namespace cardiosph
