@@ -12,6 +12,14 @@ const std::vector<SceneEntry>& scene_registry() {
        [] { return make_diffusion_gaussian_scene(); }},
       {"oscillating-beam", "2D plate clamped at one end in its first bending mode, against the thin-plate period",
        [] { return make_oscillating_beam_scene(); }},
+      {"cantilever", "3D passive myocardium cantilever (isotropic exponential law) after a transverse kick",
+       [] { return make_cantilever_scene(); }},
+      {"twisting-column", "3D column twisted by an initial angular velocity: twist and zero-energy-mode measure",
+       [] { return make_twisting_column_scene(); }},
+      {"land-beam", "3D Guccione beam under follower pressure (Land et al. 2015, problem 1), against the published tip z",
+       [] { return make_land_beam_scene(); }},
+      {"homogeneous-deformation", "3D Holzapfel-Ogden cube in fibre/sheet stretch and shear, against the closed-form stress",
+       [] { return make_homogeneous_deformation_scene(); }},
   };
   return scenes;
 }

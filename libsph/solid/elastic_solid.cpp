@@ -1,6 +1,7 @@
 #include "libsph/solid/elastic_solid.hpp"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -324,6 +325,11 @@ typename ElasticSolid<Dim>::Energies ElasticSolid<Dim>::energies() {
         });
       },
       settings_.material);
+  e.min_jacobian = parallel_reduce(F.size(), std::numeric_limits<Real>::infinity(),
+                                   [&](std::size_t i) { return F[i].determinant(); },
+                                   [](Real p, Real q) { return std::min(p, q); });
+  e.max_jacobian = parallel_max(F.size(), -std::numeric_limits<Real>::infinity(),
+                                [&](std::size_t i) { return F[i].determinant(); });
   return e;
 }
 
@@ -342,18 +348,6 @@ double ElasticSolid<Dim>::hourglass_measure() {
     return row;
   });
   return rel.n_pairs() > 0 ? sum / static_cast<double>(rel.n_pairs()) : 0.0;
-}
-
-template <int Dim>
-std::pair<Real, Real> ElasticSolid<Dim>::jacobian_range() {
-  compute_deformation_gradient();
-  const auto F = particles_.field(deformation_gradient_);
-  const Real lowest = parallel_reduce(F.size(), std::numeric_limits<Real>::infinity(),
-                                      [&](std::size_t i) { return F[i].determinant(); },
-                                      [](Real p, Real q) { return std::min(p, q); });
-  const Real highest = parallel_max(F.size(), -std::numeric_limits<Real>::infinity(),
-                                    [&](std::size_t i) { return F[i].determinant(); });
-  return {lowest, highest};
 }
 
 template class ElasticSolid<2>;

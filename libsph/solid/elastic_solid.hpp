@@ -57,6 +57,7 @@ class ElasticSolid {
 
   struct Energies {
     double kinetic = 0, strain = 0;
+    Real min_jacobian = 1, max_jacobian = 1;
     double total() const { return kinetic + strain; }
   };
 
@@ -87,12 +88,10 @@ class ElasticSolid {
 
   /// Recomputes F at the current positions and fills displacement, J, von Mises stress and fibre stretch.
   void update_output_fields();
-  /// Kinetic energy sum 1/2 m v^2 and strain energy sum V0 W(F) at the current positions.
+  /// Kinetic energy sum 1/2 m v^2, strain energy sum V0 W(F) and the range of J at the current positions.
   Energies energies();
   /// Zero-energy-mode measure: the mean over pairs of |F_i X_ij - x_ij| / |X_ij| at the current positions.
   double hourglass_measure();
-  /// Smallest and largest J at the current positions.
-  std::pair<Real, Real> jacobian_range();
 
   FieldHandle<Vec<Dim>> velocity_field() const { return velocity_; }
   FieldHandle<Vec<Dim>> reference_position_field() const { return reference_position_; }

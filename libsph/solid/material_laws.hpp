@@ -73,12 +73,17 @@ struct NeoHookean {
 };
 
 /// The modified Holzapfel-Ogden myocardium law used in cardiac SPH (Holzapfel & Ogden 2009,
-/// Phil. Trans. R. Soc. A 367:3445, eq. 5.38; in the form of Zhang et al. 2021, CMAME 381:113847,
-/// with the fibre and sheet terms active in tension and compression alike):
+/// Phil. Trans. R. Soc. A 367:3445, eq. 5.38; in the compressible form of Zhang et al. 2021,
+/// CMAME 381:113847):
 ///   W = a/(2b) [exp(b (I1 - d)) - 1] - a ln J
-///     + sum_{i = f, s} a_i/(2 b_i) [exp(b_i (I4i - 1)^2) - 1] + a_fs/(2 b_fs) [exp(b_fs I8^2) - 1] + U(J)
-///   S = a exp(b (I1 - d)) I - a C^-1 + 2 a_f (I4f - 1) exp(b_f (I4f - 1)^2) f (x) f
-///     + 2 a_s (I4s - 1) exp(b_s (I4s - 1)^2) s (x) s + a_fs I8 exp(b_fs I8^2) (f (x) s + s (x) f) + K/2 (J^2 - 1) C^-1.
+///     + sum_{i = f, s} a_i/(2 b_i) [exp(b_i <I4i - 1>^2) - 1] + a_fs/(2 b_fs) [exp(b_fs I8^2) - 1] + U(J)
+///   S = a exp(b (I1 - d)) I - a C^-1 + 2 a_f <I4f - 1> exp(b_f <I4f - 1>^2) f (x) f
+///     + 2 a_s <I4s - 1> exp(b_s <I4s - 1>^2) s (x) s + a_fs I8 exp(b_fs I8^2) (f (x) s + s (x) f) + K/2 (J^2 - 1) C^-1.
+/// <x> = max(x, 0) by default: fibres and sheets bear no compression, as in Holzapfel & Ogden 2009
+/// (sec. 5). With fibres_in_compression = true the terms act in compression too, as in Zhang et al.
+/// 2021; that form loses ellipticity under fibre compression (the fibre stress makes the shear
+/// stiffness along the fibre negative once a + 2 a_f (I4f - 1) < 0) and the solid then buckles
+/// at the particle scale, so it is not the default.
 /// The - a ln J term makes the reference stress free (SPHinXsys writes it as - a J C^-1, which
 /// agrees to first order but derives from no energy).
 template <int Dim>
@@ -88,14 +93,20 @@ struct HolzapfelOgden {
   Real a_s = 0, b_s = 1;    ///< sheet
   Real a_fs = 0, b_fs = 1;  ///< fibre-sheet shear
   Real bulk_modulus = 0;    ///< K of the volumetric penalty [stress]
+  bool fibres_in_compression = false;
   static constexpr bool anisotropic = true;
+
+  /// I4 - 1, or its positive part when fibres bear no compression.
+  Real fibre_strain(Real I4_minus_one) const {
+    return fibres_in_compression ? I4_minus_one : std::max(I4_minus_one, Real(0));
+  }
 
   Mat<Dim> second_piola(const Mat<Dim>& F, const Vec<Dim>& f, const Vec<Dim>& s) const {
     using namespace material_detail;
     const Mat<Dim> C = F.transpose() * F;
     const Mat<Dim> C_inverse = C.inverse();
     const Real J = F.determinant();
-    const Real I4f = f.dot(C * f) - 1, I4s = s.dot(C * s) - 1, I8 = f.dot(C * s);
+    const Real I4f = fibre_strain(f.dot(C * f) - 1), I4s = fibre_strain(s.dot(C * s) - 1), I8 = f.dot(C * s);
     Mat<Dim> S = a * std::exp(b * (C.trace() - Dim)) * Mat<Dim>::Identity() +
                  (volumetric_stress_factor(bulk_modulus, J) - a) * C_inverse;
     S += 2 * a_f * I4f * std::exp(b_f * I4f * I4f) * (f * f.transpose());
@@ -106,7 +117,7 @@ struct HolzapfelOgden {
   Real energy(const Mat<Dim>& F, const Vec<Dim>& f, const Vec<Dim>& s) const {
     const Mat<Dim> C = F.transpose() * F;
     const Real J = F.determinant();
-    const Real I4f = f.dot(C * f) - 1, I4s = s.dot(C * s) - 1, I8 = f.dot(C * s);
+    const Real I4f = fibre_strain(f.dot(C * f) - 1), I4s = fibre_strain(s.dot(C * s) - 1), I8 = f.dot(C * s);
     auto term = [](Real coefficient, Real exponent, Real argument) {
       return coefficient == 0 ? Real(0) : coefficient / (2 * exponent) * (std::exp(exponent * argument) - 1);
     };

@@ -11,12 +11,6 @@ namespace {
 using sph::Real;
 using Vec2 = sph::Vec<2>;
 
-void check_whole_spacings(double extent, double dp, const std::string& name) {
-  const double cells = extent / dp;
-  if (std::abs(cells - std::round(cells)) > 1e-6 * cells || std::round(cells) < 1)
-    throw sph::ParameterError("parameter '" + name + "' must be a whole number of particle spacings (thickness / resolution)");
-}
-
 class OscillatingBeamScene final : public Scene {
  public:
   explicit OscillatingBeamScene(OscillatingBeamParameters p) : p_(std::move(p)) {}

@@ -24,6 +24,13 @@ void declare_solid_numerics(sph::Parameters& p, SolidNumerics& n, const std::str
         sph::Range::non_negative());
 }
 
+void check_whole_spacings(double extent, double spacing, const std::string& name) {
+  const double cells = extent / spacing;
+  if (std::abs(cells - std::round(cells)) > 1e-6 * cells || std::round(cells) < 1)
+    throw sph::ParameterError("parameter '" + name + "' = " + std::to_string(extent) +
+                              " must be a whole number of particle spacings (" + std::to_string(spacing) + ")");
+}
+
 template <int Dim>
 SolidRunSummary run_solid(sph::ElasticSolid<Dim>& solid, const sph::NeighbourList<Dim>& relation,
                           const SolidRunPlan& plan, RunContext& ctx) {
@@ -42,15 +49,15 @@ SolidRunSummary run_solid(sph::ElasticSolid<Dim>& solid, const sph::NeighbourLis
   stepper.add_periodic_callback(static_cast<sph::Real>(output_interval), [&](const sph::StepInfo& s) { write_state(s.time); });
 
   SolidRunSummary summary;
-  sph::TimeSeriesCsv energy_csv(ctx.output_dir / "energy.csv", {"time", "kinetic", "strain", "total", "min_J", "max_J"});
+  sph::TimeSeriesCsv energy_csv(ctx.output_dir / (plan.body + "_energy.csv"), {"time", "kinetic", "strain", "total", "min_J", "max_J"});
   double max_energy = 0;
   std::vector<double> energy_samples;
-  const double sample_interval = plan.sample_interval > 0 ? plan.sample_interval : plan.end_time / 200;
+  const double sample_interval = plan.sample_interval > 0 ? plan.sample_interval : plan.end_time / 100;
   stepper.add_periodic_callback(
       static_cast<sph::Real>(sample_interval),
       [&](const sph::StepInfo& s) {
         const auto e = solid.energies();  // also leaves F at the current positions
-        const auto [low, high] = solid.jacobian_range();
+        const double low = e.min_jacobian, high = e.max_jacobian;
         summary.min_jacobian = std::min<double>(summary.min_jacobian, low);
         summary.max_jacobian = std::max<double>(summary.max_jacobian, high);
         energy_csv.record({s.time, e.kinetic, e.strain, e.total(), double(low), double(high)});

@@ -24,6 +24,9 @@ struct SolidNumerics {
 
 void declare_solid_numerics(sph::Parameters& p, SolidNumerics& n, const std::string& time_unit);
 
+/// Throws ParameterError naming `name` unless extent / spacing is a whole number.
+void check_whole_spacings(double extent, double spacing, const std::string& name);
+
 /// Copies the numerical settings into the solid's settings.
 template <int Dim>
 void apply_solid_numerics(const SolidNumerics& n, typename sph::ElasticSolid<Dim>::Settings& settings) {
@@ -37,7 +40,7 @@ struct SolidRunPlan {
   std::string body;                  ///< body name of the output files
   double end_time = 0;
   double output_interval = 0;        ///< 0: first and last state only
-  double sample_interval = 0;        ///< observers and energies (0: end_time / 200)
+  double sample_interval = 0;        ///< observers and energies (0: end_time / 100)
   std::function<void(const sph::StepInfo&)> sample;      ///< observer callback (may be empty)
   std::function<void(const sph::StepInfo&)> every_step;  ///< after every step (may be empty)
 };
@@ -49,7 +52,7 @@ struct SolidRunSummary {
   double min_jacobian = 1, max_jacobian = 1;
 };
 
-/// Runs the solid from t = 0 to the end time. Writes <body>_*.vtu + <body>.pvd and energy.csv
+/// Runs the solid from t = 0 to the end time. Writes <body>_*.vtu + <body>.pvd and <body>_energy.csv
 /// (time, kinetic, strain, total) into ctx.output_dir; fills steps, particles, memory and time
 /// step in ctx.report. On NumericalFailure the restored last good state is written, then the
 /// error is rethrown (the run ends as failed, exit code 1).

@@ -77,7 +77,7 @@ struct LandBeamParameters {
 };
 
 struct HomogeneousDeformationParameters {
-  long resolution = 20;        ///< particles across the unit cube
+  long resolution = 16;        ///< particles across the unit cube
   double end_time = 4;         ///< [ms] per mode: ramp over ramp_time, then hold
   double ramp_time = 3;        ///< [ms]
   double stretch = 1.1;        ///< final stretch of the uniaxial modes (isochoric)
@@ -85,7 +85,7 @@ struct HomogeneousDeformationParameters {
   double bulk_modulus = 100;   ///< [kPa]
   double density = 1;          ///< [mg/mm^3]
   double damping_rate = 2;     ///< [1/ms] velocity damping while driven
-  double boundary_layers = 2;  ///< driven layer thickness, in kernel supports
+  double boundary_layers = 1;  ///< driven layer thickness, in kernel supports
   SolidNumerics numerics;
 };
 

@@ -1,0 +1,178 @@
+// Validation and stability of the TLSPH solid (label: validation). Bounds are stated in each test
+// and the measured values printed.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "apps/run_scene.hpp"
+#include "apps/scenes/solid/solid_scenes.hpp"
+#include "geometry/lattice.hpp"
+#include "libsph/core/numerical_failure.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using sph::Real;
+using Vec3 = sph::Vec<3>;
+
+sph::RunReport run_scene(cardiosph::Scene& scene, const std::string& name) {
+  cardiosph::RunContext ctx;
+  ctx.output_dir = fs::temp_directory_path() / ("cardiosph_solid_" + name);
+  fs::remove_all(ctx.output_dir);
+  fs::create_directories(ctx.output_dir);
+  ctx.quiet = true;
+  scene.check();
+  scene.run(ctx);
+  fs::remove_all(ctx.output_dir);
+  return ctx.report;
+}
+
+double result(const sph::RunReport& r, const std::string& key) { return r.results.at(key).get<double>(); }
+
+// Gray et al. 2001 plate at H/dp = 10 over five periods: period within 5% of the thin-plate value,
+// total energy (no damping; the hourglass penalty on at its default) within 1%.
+TEST(SolidValidation, OscillatingBeamPeriodAndEnergy) {
+  cardiosph::OscillatingBeamParameters p;  // H/dp = 10, five periods
+  const auto r = run_scene(*cardiosph::make_oscillating_beam_scene(p), "beam");
+  const double error = r.errors.at("period_relative").get<double>(), drift = result(r, "energy_drift_relative");
+  std::printf("oscillating-beam H/dp=10: period %.4f s (reference %.4f), error %.2f%% (bound 5%%), amplitude %.4f m, "
+              "energy drift %.2e (bound 1e-2)\n", result(r, "period_s"), result(r, "reference_period_s"), 100 * error,
+              result(r, "amplitude_m"), drift);
+  EXPECT_LT(error, 0.05);
+  EXPECT_LT(drift, 0.01);
+  EXPECT_GE(result(r, "half_periods_measured"), 8);
+}
+
+// Holzapfel-Ogden cube in four homogeneous deformations: interior Cauchy stress within 2%.
+TEST(SolidValidation, HomogeneousDeformationStress) {
+  cardiosph::HomogeneousDeformationParameters p;
+  p.resolution = 12;
+  const auto r = run_scene(*cardiosph::make_homogeneous_deformation_scene(p), "homogeneous");
+  const double error = r.errors.at("stress_relative").get<double>();
+  std::printf("homogeneous-deformation (resolution 12): max interior stress error %.2e (bound 2e-2): fibre %.1e, "
+              "sheet %.1e, shear fs %.1e, shear sf %.1e\n", error, r.errors.at("stress_relative_fibre_stretch").get<double>(),
+              r.errors.at("stress_relative_sheet_stretch").get<double>(), r.errors.at("stress_relative_shear_fs").get<double>(),
+              r.errors.at("stress_relative_shear_sf").get<double>());
+  EXPECT_LT(error, 0.02);
+}
+
+// The passive cantilever runs to t = 3 without instability at a coarse resolution.
+TEST(SolidStability, CantileverRunsToTheEnd) {
+  cardiosph::CantileverParameters p;
+  p.resolution = 4;
+  const auto r = run_scene(*cardiosph::make_cantilever_scene(p), "cantilever");
+  std::printf("cantilever (resolution 4, t = 3): J in [%.4f, %.4f], max tip deflection %.3f m, energy drift %.2e, %zu steps\n",
+              result(r, "min_jacobian"), result(r, "max_jacobian"), result(r, "tip_max_deflection_m"),
+              result(r, "energy_drift_relative"), r.steps);
+  EXPECT_EQ(r.status, "completed");
+  EXPECT_GT(result(r, "min_jacobian"), 0.5);
+  EXPECT_LT(result(r, "max_jacobian"), 1.5);
+  EXPECT_GT(result(r, "tip_max_deflection_m"), 0.5);  // the kick bends it visibly
+}
+
+// nu = 0.4999 (K / mu about 5000): the cantilever runs and J stays within [0.98, 1.02].
+TEST(SolidStability, NearlyIncompressibleCantilever) {
+  cardiosph::CantileverParameters p;
+  p.resolution = 4;
+  p.poisson_ratio = 0.4999;
+  p.end_time = 0.2;
+  const auto r = run_scene(*cardiosph::make_cantilever_scene(p), "incompressible");
+  std::printf("cantilever nu = 0.4999 (resolution 4, t = 0.2): J in [%.5f, %.5f] (bound [0.98, 1.02]), %zu steps\n",
+              result(r, "min_jacobian"), result(r, "max_jacobian"), r.steps);
+  EXPECT_EQ(r.status, "completed");
+  EXPECT_GT(result(r, "min_jacobian"), 0.98);
+  EXPECT_LT(result(r, "max_jacobian"), 1.02);
+}
+
+// A column twisted past 90 degrees: with the hourglass penalty the zero-energy-mode measure stays
+// smaller than without it.
+TEST(SolidStability, TwistingColumnHourglassControl) {
+  cardiosph::TwistingColumnParameters p;
+  p.resolution = 4;
+  const auto with = run_scene(*cardiosph::make_twisting_column_scene(p), "twist_on");
+  p.numerics.hourglass_coefficient = 0;
+  const auto without = run_scene(*cardiosph::make_twisting_column_scene(p), "twist_off");
+  std::printf("twisting-column (resolution 4): max twist %.0f deg; hourglass measure max %.3e with alpha = 0.1, %.3e "
+              "without; J min %.3f / %.3f\n", result(with, "max_twist_deg"), result(with, "hourglass_measure_max"),
+              result(without, "hourglass_measure_max"), result(with, "min_jacobian"), result(without, "min_jacobian"));
+  EXPECT_GT(result(with, "max_twist_deg"), 90);
+  EXPECT_LT(result(with, "hourglass_measure_max"), result(without, "hourglass_measure_max"));
+  EXPECT_GT(result(with, "min_jacobian"), 0);
+}
+
+// Holzapfel-Ogden column (fibres along the axis) compressed to half its length by its top face,
+// the bottom face sliding: every particle keeps J > 0.
+TEST(SolidStability, HolzapfelOgdenCompressionToHalfLength) {
+  const Real dp = Real(0.125);
+  auto body = geometry::lattice_box<3>("column", Vec3::Zero(), Vec3(1, 1, 2), dp);
+  const auto relation = sph::build_inner_relation<3>(body.position, sph::make_kernel<3>("wendland_c4"), Real(1.3) * dp);
+  sph::ElasticSolid<3>::Settings settings;
+  sph::HolzapfelOgden<3> law;
+  law.a = Real(0.059), law.b = Real(8.023), law.a_f = Real(18.472), law.b_f = Real(16.026);
+  law.a_s = Real(2.481), law.b_s = Real(11.12), law.a_fs = Real(0.216), law.b_fs = Real(11.436);
+  law.bulk_modulus = 50;
+  settings.material = law;
+  settings.fiber = Vec3::UnitZ();
+  settings.sheet = Vec3::UnitX();
+  settings.hourglass_coefficient = Real(0.1);
+  settings.damping_rate = 2;
+  sph::ElasticSolid<3> solid(body, relation, settings);
+  const Real duration = 10;  // ms, slow compared with the acoustic time (about 0.2 ms)
+  std::vector<sph::Index> bottom;
+  for (std::size_t i = 0; i < body.n_particles(); ++i)
+    if (body.position[i][2] < dp) bottom.push_back(static_cast<sph::Index>(i));
+  solid.slide(bottom, 2);
+  solid.prescribe_motion(
+      [&] {
+        std::vector<sph::Index> top;
+        for (std::size_t i = 0; i < body.n_particles(); ++i)
+          if (body.position[i][2] > 2 - dp) top.push_back(static_cast<sph::Index>(i));
+        return top;
+      }(),
+      [&](const Vec3& X, Real t) { return Vec3(X[0], X[1], X[2] * (1 - Real(0.5) * std::min(t / duration, Real(1)))); },
+      [&](const Vec3& X, Real t) { return Vec3(0, 0, t < duration ? -Real(0.5) * X[2] / duration : 0); });
+  Real t = 0;
+  std::size_t steps = 0;
+  EXPECT_NO_THROW({
+    while (t < duration) {
+      const Real dt = std::min(solid.stable_time_step(), duration - t);
+      solid.advance(t, dt);
+      t += dt;
+      ++steps;
+    }
+  });
+  const auto e = solid.energies();
+  double height = 0;
+  for (std::size_t i = 0; i < body.n_particles(); ++i) height = std::max(height, double(body.position[i][2]));
+  std::printf("Holzapfel-Ogden compression to half length: top at z = %.3f (from 2), J in [%.3f, %.3f] (bound J > 0), %zu steps\n",
+              height, e.min_jacobian, e.max_jacobian, steps);
+  EXPECT_GT(e.min_jacobian, 0);
+  EXPECT_LT(height, 1.05);
+}
+
+// A time step far above the acoustic limit: the run stops with a diagnostic naming the body,
+// particle, position and time, writes the last good state, reports status "failed" and exits 1.
+TEST(SolidStability, TooLargeTimeStepIsDetected) {
+  const fs::path out = fs::temp_directory_path() / "cardiosph_solid_blowup";
+  fs::remove_all(out);
+  cardiosph::CommonOptions options;
+  options.output = out;
+  options.quiet = true;
+  options.resolution = "4";
+  options.end_time = "0.5";
+  options.assignments = {"time_step=2e-3"};  // about 4 times the acoustic step
+  const auto result = cardiosph::run_scene("cantilever", options);
+  std::printf("cantilever with time_step = 2e-3 s: exit %d, message: %s\n", result.exit_code, result.report.message.c_str());
+  EXPECT_EQ(result.exit_code, cardiosph::exit_run_failed);
+  EXPECT_EQ(result.report.status, "failed");
+  for (const char* part : {"body 'beam'", "particle", "time", "at ("})
+    EXPECT_NE(result.report.message.find(part), std::string::npos) << part;
+  EXPECT_TRUE(fs::exists(out / "report.json"));
+  EXPECT_TRUE(fs::exists(out / "beam.pvd"));
+  EXPECT_TRUE(fs::exists(out / "beam_00001.vtu"));  // the last good state after the initial one
+  fs::remove_all(out);
+}
+
+}  // namespace
