@@ -65,9 +65,9 @@ struct TwistingColumnParameters {
 
 struct LandBeamParameters {
   long resolution = 6;          ///< particles across the 1 mm thickness
-  double end_time = 600;        ///< [ms]
+  double end_time = 450;        ///< [ms]
   double pressure = 0.004;      ///< [kPa] on the bottom face
-  double ramp_time = 200;       ///< [ms] linear ramp of the pressure
+  double ramp_time = 150;       ///< [ms] linear ramp of the pressure
   double stiffness = 2;         ///< [kPa] C of the Guccione law
   double b_f = 8, b_t = 2, b_fs = 4;
   double bulk_modulus = 200;    ///< [kPa] volumetric penalty K (incompressibility)
