@@ -20,11 +20,7 @@ void tlsph_step(benchmark::State& state) {
   auto body = geometry::lattice_box<3>("block", Vec3::Zero(), Vec3::Ones(), dp);
   const auto relation = sph::build_inner_relation<3>(body.position, sph::make_kernel<3>("wendland_c4"), Real(1.3) * dp);
   sph::ElasticSolid<3>::Settings settings;
-  sph::HolzapfelOgden<3> law;
-  law.a = Real(0.059), law.b = Real(8.023), law.a_f = Real(18.472), law.b_f = Real(16.026);
-  law.a_s = Real(2.481), law.b_s = Real(11.12), law.a_fs = Real(0.216), law.b_fs = Real(11.436);
-  law.bulk_modulus = 100;
-  settings.material = law;
+  settings.material = sph::holzapfel_ogden_2009_kpa<3>(100);
   settings.hourglass_coefficient = Real(0.1);
   sph::ElasticSolid<3> solid(body, relation, settings);
   solid.clamp(std::vector<sph::Index>{0});

@@ -129,6 +129,17 @@ struct HolzapfelOgden {
   Real shear_modulus() const { return a; }
 };
 
+/// The Holzapfel & Ogden 2009 fit to the shear data of Dokos et al. 2002 (their Table 1), in kPa:
+/// a = 0.059, b = 8.023, a_f = 18.472, b_f = 16.026, a_s = 2.481, b_s = 11.120, a_fs = 0.216, b_fs = 11.436.
+template <int Dim>
+HolzapfelOgden<Dim> holzapfel_ogden_2009_kpa(Real bulk_modulus) {
+  HolzapfelOgden<Dim> law;
+  law.a = Real(0.059), law.b = Real(8.023), law.a_f = Real(18.472), law.b_f = Real(16.026);
+  law.a_s = Real(2.481), law.b_s = Real(11.120), law.a_fs = Real(0.216), law.b_fs = Real(11.436);
+  law.bulk_modulus = bulk_modulus;
+  return law;
+}
+
 /// Guccione, McCulloch & Waldman 1991 (J. Biomech. Eng. 113:42), transversely isotropic, with the
 /// volumetric penalty U(J) for near incompressibility (as in Land et al. 2015, Proc. R. Soc. A 471):
 ///   W = C/2 (exp(Q) - 1) + U(J),

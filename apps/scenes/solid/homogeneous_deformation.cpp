@@ -19,21 +19,6 @@ using sph::Real;
 using Vec3 = sph::Vec<3>;
 using Mat3 = sph::Mat<3>;
 
-sph::HolzapfelOgden<3> myocardium(double bulk_modulus) {
-  // Holzapfel & Ogden 2009, Table 1 (fit to the shear data of Dokos et al. 2002), kPa.
-  sph::HolzapfelOgden<3> law;
-  law.a = Real(0.059);
-  law.b = Real(8.023);
-  law.a_f = Real(18.472);
-  law.b_f = Real(16.026);
-  law.a_s = Real(2.481);
-  law.b_s = Real(11.120);
-  law.a_fs = Real(0.216);
-  law.b_fs = Real(11.436);
-  law.bulk_modulus = static_cast<Real>(bulk_modulus);
-  return law;
-}
-
 /// F at ramp fraction s and its derivative with respect to s.
 struct Mode {
   std::string name;
@@ -102,7 +87,7 @@ class HomogeneousDeformationScene final : public Scene {
     const double T = p_.ramp_time;
     auto ramp = [T](double t) { return t < T ? t / T - std::sin(2 * M_PI * t / T) / (2 * M_PI) : 1.0; };
     auto ramp_rate = [T](double t) { return t < T ? (1 - std::cos(2 * M_PI * t / T)) / T : 0.0; };
-    const auto law = myocardium(p_.bulk_modulus);
+    const auto law = sph::holzapfel_ogden_2009_kpa<3>(static_cast<Real>(p_.bulk_modulus));
 
     sph::TimeSeriesCsv table(ctx.output_dir / "stress.csv",
                              {"mode", "sigma_xx", "sigma_yy", "sigma_zz", "sigma_xy", "exact_xx", "exact_yy", "exact_zz", "exact_xy", "error_relative"});
