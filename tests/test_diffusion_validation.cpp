@@ -8,21 +8,13 @@
 #include <filesystem>
 
 #include "apps/scenes/diffusion_scenes.hpp"
+#include "run_scene_for_test.hpp"
 
 namespace {
 
-namespace fs = std::filesystem;
 
 double run_scene(cardiosph::Scene& scene, const std::string& name) {
-  cardiosph::RunContext ctx;
-  ctx.output_dir = fs::temp_directory_path() / ("cardiosph_validation_" + name);
-  fs::remove_all(ctx.output_dir);
-  fs::create_directories(ctx.output_dir);
-  ctx.quiet = true;
-  scene.check();
-  scene.run(ctx);
-  fs::remove_all(ctx.output_dir);
-  return ctx.report.errors["l2_relative"].get<double>();
+  return test::run_scene(scene, name).errors["l2_relative"].get<double>();
 }
 
 TEST(DiffusionValidation, IsotropicBandAgainstErrorFunctions) {

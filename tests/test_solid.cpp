@@ -52,14 +52,13 @@ TEST(MaterialLaws, ReferenceIsStressFreeAndStressSymmetric) {
 
 // S = 2 dW/dC = F^-1 dW/dF: compare P = F S with central differences of W in each entry of F.
 TEST(MaterialLaws, StressIsTheDerivativeOfTheEnergy) {
-  if constexpr (std::is_same_v<Real, float>) GTEST_SKIP() << "finite differences need double precision";
   for (const auto& law : all_laws()) {
     std::visit(
         [](const auto& m) {
           const Mat3 F = sample_deformation(1);
           const Mat3 P = F * m.second_piola(F, fiber, sheet);
           Mat3 P_fd;
-          const double step = 1e-6;
+          const double step = test::bound(1e-6, 3e-3);  // float: a larger step against round-off
           for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 3; ++c) {
               Mat3 Fp = F, Fm = F;
@@ -67,7 +66,7 @@ TEST(MaterialLaws, StressIsTheDerivativeOfTheEnergy) {
               Fm(r, c) -= step;
               P_fd(r, c) = (m.energy(Fp, fiber, sheet) - m.energy(Fm, fiber, sheet)) / (2 * step);
             }
-          EXPECT_LT((P - P_fd).norm(), 1e-6 * std::max(1.0, double(P.norm()))) << "P =\n" << P << "\nfinite differences =\n" << P_fd;
+          EXPECT_LT((P - P_fd).norm(), test::bound(1e-6, 3e-2) * std::max(1.0, double(P.norm()))) << "P =\n" << P << "\nfinite differences =\n" << P_fd;
         },
         law);
   }

@@ -10,6 +10,7 @@
 #include "apps/scenes/solid/solid_scenes.hpp"
 #include "geometry/lattice.hpp"
 #include "libsph/core/numerical_failure.hpp"
+#include "run_scene_for_test.hpp"
 
 namespace {
 
@@ -17,17 +18,7 @@ namespace fs = std::filesystem;
 using sph::Real;
 using Vec3 = sph::Vec<3>;
 
-sph::RunReport run_scene(cardiosph::Scene& scene, const std::string& name) {
-  cardiosph::RunContext ctx;
-  ctx.output_dir = fs::temp_directory_path() / ("cardiosph_solid_" + name);
-  fs::remove_all(ctx.output_dir);
-  fs::create_directories(ctx.output_dir);
-  ctx.quiet = true;
-  scene.check();
-  scene.run(ctx);
-  fs::remove_all(ctx.output_dir);
-  return ctx.report;
-}
+using test::run_scene;
 
 double result(const sph::RunReport& r, const std::string& key) { return r.results.at(key).get<double>(); }
 
