@@ -7,6 +7,7 @@
 #include <map>
 #include <sstream>
 
+#include "apps/plot.hpp"
 #include "libsph/io/atomic_file.hpp"
 
 namespace cardiosph {
@@ -41,30 +42,10 @@ bool parse_number(const std::string& s, double& v) {
 
 void plot(const fs::path& folder, const std::vector<std::string>& error_names, const std::string& scene,
           const std::string& key) {
-  std::ostringstream script;
-  script << "set terminal pngcairo size 900,650 enhanced font 'sans,11'\n"
-         << "set output 'study.png.partial'\n"
-         << "set datafile separator ','\n"
-         << "set logscale xy\n"
-         << "set grid\n"
-         << "set key outside right top\n"
-         << "set title '" << scene << ": error against wall time (sweep of " << key << ")' noenhanced\n"
-         << "set xlabel 'wall time [s]'\nset ylabel 'error'\n"
-         << "plot ";
-  for (std::size_t e = 0; e < error_names.size(); ++e)
-    script << (e ? ", " : "") << "'study.csv' using 5:" << 6 + e << " skip 1 with linespoints lw 2 pt 7 title '"
-           << error_names[e] << "' noenhanced";
-  script << "\n";
-  sph::write_file_atomically(folder / "study.gp", script.str());
-  const std::string command = "cd '" + folder.string() + "' && gnuplot study.gp 2> gnuplot.log";
-  if (std::system(command.c_str()) == 0) {
-    sph::commit_temporary(folder / "study.png.partial", folder / "study.png");
-    fs::remove(folder / "gnuplot.log");
-  } else {
-    fs::remove(folder / "study.png.partial");
-    std::cerr << "study: the plot was not made (is gnuplot installed? see " << (folder / "gnuplot.log").string()
-              << "); study.csv is complete\n";
-  }
+  LogLogPlot plot{"study.csv", "study.png", scene + ": error against wall time (sweep of " + key + ")", "wall time [s]",
+                  "error", {}};
+  for (std::size_t e = 0; e < error_names.size(); ++e) plot.series.push_back({5, 6 + static_cast<int>(e), error_names[e]});
+  plot_log_log(folder, plot);
 }
 
 }  // namespace

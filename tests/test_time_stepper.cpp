@@ -45,6 +45,21 @@ TEST(TimeStepper, FinalStateIsSeenWhenTheIntervalDoesNotDivideTheRun) {
   EXPECT_EQ(outputs.back(), 1.0);
 }
 
+TEST(TimeStepper, StopsAfterTheStepThatAsksAndShowsTheFinalState) {
+  sph::TimeStepper stepper(0, 10);
+  Real t_reached = 0;
+  stepper.add_stage({"s", [] { return Real(0.5); }, [&](Real t, Real dt) { t_reached = t + dt; }});
+  stepper.add_step_callback([&](const sph::StepInfo& s) {
+    if (s.time >= 2) stepper.stop_after_this_step();
+  });
+  std::vector<Real> outputs;
+  stepper.add_periodic_callback(5, [&](const sph::StepInfo& s) { outputs.push_back(s.time); });
+  EXPECT_EQ(stepper.run(), 4u);
+  EXPECT_EQ(t_reached, 2);
+  EXPECT_EQ(stepper.end_time(), 2);
+  EXPECT_EQ(outputs, (std::vector<Real>{0, 2}));  // the start and the state where the run stopped
+}
+
 TEST(TimeStepper, SubCycledStageTakesEqualSubSteps) {
   sph::TimeStepper stepper(0, 1);
   std::size_t macro = 0, sub = 0;

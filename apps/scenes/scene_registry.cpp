@@ -1,4 +1,5 @@
 #include "apps/scenes/diffusion_scenes.hpp"
+#include "apps/scenes/electrophysiology/ep_scenes.hpp"
 #include "apps/scenes/scene.hpp"
 #include "apps/scenes/solid/solid_scenes.hpp"
 
@@ -20,6 +21,14 @@ const std::vector<SceneEntry>& scene_registry() {
        [] { return make_land_beam_scene(); }},
       {"homogeneous-deformation", "3D Holzapfel-Ogden cube in fibre/sheet stretch and shear, against the closed-form stress",
        [] { return make_homogeneous_deformation_scene(); }},
+      {"cell", "single-cell action potentials of every model and scheme against CVODE: error against wall time",
+       [] { return make_cell_scene(); }},
+      {"depolarization", "2D Aliev-Panfilov excitation from a corner bump (SPHinXsys case), observer against a converged run",
+       [] { return make_depolarization_scene(); }},
+      {"spiral-wave", "2D Aliev-Panfilov spiral from an S1-S2 cross-field stimulus: rotation period and stability",
+       [] { return make_spiral_wave_scene(); }},
+      {"niederer-slab", "3D ten Tusscher-Panfilov slab benchmark (Niederer et al. 2011): activation times at P1..P9",
+       [] { return make_niederer_slab_scene(); }},
   };
   return scenes;
 }

@@ -89,6 +89,7 @@ std::size_t TimeStepper::run() {
     info.time_step = dt;
     ++info.step;
     for (const auto& callback : step_callbacks_) callback(info);
+    if (stop_requested_ && t < end_time_) end_time_ = info.end_time = t;
     fire_due(t);
   }
   return info.step;

@@ -48,6 +48,12 @@ class TimeStepper {
   /// callback(info) after every macro step.
   void add_step_callback(std::function<void(const StepInfo&)> callback);
 
+  /// Ends the run after the current step (from a step callback): the periodic callbacks then fire
+  /// once more at the time reached, as they do at the end time.
+  void stop_after_this_step() { stop_requested_ = true; }
+  /// The end time, or the time at which the run was stopped.
+  Real end_time() const { return end_time_; }
+
   /// Runs from the start to the end time; returns the number of macro steps. Throws
   /// std::runtime_error if a stage's stable step is not positive and finite (time-step collapse).
   std::size_t run();
@@ -67,6 +73,7 @@ class TimeStepper {
   std::vector<Stage> stages_;
   std::vector<Periodic> periodic_;
   std::vector<std::function<void(const StepInfo&)>> step_callbacks_;
+  bool stop_requested_ = false;
 };
 
 }  // namespace sph

@@ -1,0 +1,41 @@
+#include "apps/plot.hpp"
+
+#include <cstdlib>
+#include <iostream>
+#include <sstream>
+
+#include "libsph/io/atomic_file.hpp"
+
+namespace cardiosph {
+
+bool plot_log_log(const std::filesystem::path& folder, const LogLogPlot& plot) {
+  namespace fs = std::filesystem;
+  const std::string partial = plot.png + ".partial", script_name = plot.png + ".gp";
+  std::ostringstream script;
+  script << "set terminal pngcairo size 900,650 enhanced font 'sans,11'\n"
+         << "set output '" << partial << "'\n"
+         << "set datafile separator ','\n"
+         << "set logscale xy\n"
+         << "set grid\n"
+         << "set key outside right top\n"
+         << "set title '" << plot.title << "' noenhanced\n"
+         << "set xlabel '" << plot.x_label << "' noenhanced\nset ylabel '" << plot.y_label << "' noenhanced\n"
+         << "plot ";
+  for (std::size_t s = 0; s < plot.series.size(); ++s)
+    script << (s ? ", " : "") << "'" << plot.csv << "' using " << plot.series[s].x_column << ":" << plot.series[s].y_column
+           << " skip 1 with linespoints lw 2 pt 7 title '" << plot.series[s].title << "' noenhanced";
+  script << "\n";
+  sph::write_file_atomically(folder / script_name, script.str());
+  const std::string command = "cd '" + folder.string() + "' && gnuplot '" + script_name + "' 2> gnuplot.log";
+  if (std::system(command.c_str()) == 0) {
+    sph::commit_temporary(folder / partial, folder / plot.png);
+    fs::remove(folder / "gnuplot.log");
+    return true;
+  }
+  fs::remove(folder / partial);
+  std::cerr << "the plot " << plot.png << " was not made (is gnuplot installed? see " << (folder / "gnuplot.log").string()
+            << "); " << plot.csv << " is complete\n";
+  return false;
+}
+
+}  // namespace cardiosph

@@ -1,0 +1,63 @@
+#pragma once
+// What the tissue electrophysiology scenes share: their numerical parameters, and the run of one
+// monodomain body (time loop, particle output, observers, progress, report of the time spent in
+// reaction and diffusion). On numerical failure the state at the failure is written for
+// inspection, then the error is passed on (the run ends as failed, exit code 1).
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "apps/scenes/scene.hpp"
+#include "cardio/monodomain.hpp"
+#include "libsph/core/point_probes.hpp"
+#include "libsph/core/time_stepper.hpp"
+
+namespace cardiosph {
+
+struct EpNumerics {
+  double smoothing_length_ratio = 1.3;  ///< h / dp
+  std::string kernel = "wendland_c2";
+  std::string correction = "moment";
+  std::string scheme = "rbr_qss";       ///< cell scheme: rbr_qss, rush_larsen or forward_euler
+  double time_step = 0.05;              ///< splitting step (reaction / diffusion / reaction)
+  std::string diffusion_integrator = "forward_euler";
+  double diffusion_cfl = 0.9;           ///< fraction of the diffusion stability limit
+  double output_interval = 0;           ///< time between particle outputs; 0 = first and last state
+};
+
+void declare_ep_numerics(sph::Parameters& p, EpNumerics& n, const std::string& time_unit);
+
+/// Copies the numerical settings into the monodomain's settings.
+template <int Dim>
+void apply_ep_numerics(const EpNumerics& n, typename cardio::Monodomain<Dim>::Settings& settings);
+
+struct EpRunPlan {
+  std::string scene;                     ///< name shown in the progress line
+  std::string body;                      ///< body name of the output files
+  double end_time = 0;
+  double output_interval = 0;            ///< 0: first and last state only
+  double sample_interval = 0;            ///< observers (0: end_time / 1000)
+  bool stop_when_all_activated = false;  ///< end the run once every particle has been activated
+  std::vector<std::string> probe_names;  ///< one per probe, for the CSV header
+  std::function<void(const sph::StepInfo&)> every_step;  ///< after every step (may be empty)
+};
+
+/// Sampled potential at the probes.
+struct EpTraces {
+  std::vector<double> time;
+  std::vector<std::vector<double>> potential;  ///< [probe][sample]
+};
+
+/// Runs the monodomain from t = 0. Writes <body>_*.vtu + <body>.pvd and observers.csv (time and
+/// the potential at each probe) into ctx.output_dir; fills steps, particles, memory, simulated time
+/// and the timings (reaction, diffusion, cell updates per second) in ctx.report.
+template <int Dim>
+EpTraces run_monodomain(cardio::Monodomain<Dim>& monodomain, sph::ParticleSet<Dim>& body,
+                        const sph::NeighbourList<Dim>& relation, const sph::PointProbes<Dim>& probes,
+                        const EpRunPlan& plan, RunContext& ctx);
+
+/// Times at which a trace rises through `level` (linear interpolation between samples).
+std::vector<double> upward_crossings(const std::vector<double>& time, const std::vector<double>& value, double level);
+
+}  // namespace cardiosph

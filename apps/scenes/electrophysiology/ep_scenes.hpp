@@ -1,0 +1,66 @@
+#pragma once
+// Electrophysiology scenes: parameter structs with their defaults, and the factories.
+
+#include <memory>
+#include <string>
+
+#include "apps/scenes/electrophysiology/ep_run.hpp"
+#include "apps/scenes/scene.hpp"
+
+namespace cardiosph {
+
+/// `cell`: single cells, paced, every scheme at several steps against the CVODE reference.
+struct CellParameters {
+  std::string model = "all";      ///< a cell model name, or all
+  long resolution = 8;            ///< rungs of the step ladder: smallest_time_step times 1, 2, 4, ...
+  double end_time = 2000;         ///< [ms]; APD90 is measured on the last paced beat
+  double period = 1000;           ///< pacing cycle length [ms]
+  double stimulus_strength = 52;  ///< applied dV/dt during a pulse [mV/ms]
+  double stimulus_duration = 1;   ///< [ms]
+  double smallest_time_step = 0.01;  ///< [ms]
+  double sample_interval = 0.5;   ///< where the voltage error is measured [ms]
+  double cvode_tolerance = 1e-8;  ///< relative tolerance of the reference (absolute: 1e-3 of it)
+};
+
+/// `depolarization`: 2D Aliev-Panfilov excitation from a corner bump (dimensionless units).
+struct DepolarizationParameters {
+  long resolution = 50;  ///< particles across the unit square (dp = 0.02)
+  double end_time = 16;
+  double diffusivity = 1;
+  double k = 8, a = 0.15, b = 0, mu1 = 0.2, mu2 = 0.3, epsilon0 = 0.04;
+  EpNumerics numerics{1.3, "wendland_c2", "moment", "rbr_qss", 0.01, "forward_euler", 0.9, 0};
+};
+
+/// `spiral-wave`: 2D Aliev-Panfilov spiral from an S1-S2 cross-field stimulus (mm, ms, mV).
+struct SpiralWaveParameters {
+  long resolution = 128;          ///< particles across the domain
+  double end_time = 2000;         ///< [ms]
+  std::string domain = "square";  ///< square or disc
+  double size = 64;               ///< side of the square or diameter of the disc [mm]
+  double diffusivity_longitudinal = 0.1;  ///< along the fibres (x) [mm^2/ms]
+  double diffusivity_transverse = 0.1;    ///< across [mm^2/ms]
+  double stimulus_strength = 50;  ///< [mV/ms]
+  double stimulus_duration = 2;   ///< [ms]
+  double s2_time = 0;             ///< onset of the S2 stimulus [ms]; 0: when the S1 wave back passes the middle
+  EpNumerics numerics{1.3, "wendland_c2", "moment", "rbr_qss", 0.5, "forward_euler", 0.9, 20};
+};
+
+/// `niederer-slab`: the N-version benchmark slab of Niederer et al. 2011 (mm, ms, mV).
+struct NiedererSlabParameters {
+  long resolution = 6;      ///< particles across the 3 mm side: dx = 3 / resolution (6: 0.5, 15: 0.2, 30: 0.1 mm)
+  double end_time = 250;    ///< the run stops earlier once every particle has been activated [ms]
+  double sigma_il = 0.17, sigma_it = 0.019, sigma_el = 0.62, sigma_et = 0.24;  ///< [S/m]
+  double surface_to_volume = 140;   ///< chi [1/mm]
+  double capacitance = 0.01;        ///< C_m [uF/mm^2]
+  double stimulus_current = 50;     ///< [uA/mm^3] (50,000 uA/cm^3)
+  double stimulus_duration = 2;     ///< [ms]
+  double stimulus_size = 1.5;       ///< side of the stimulated corner cube [mm]
+  EpNumerics numerics{1.3, "wendland_c2", "moment", "rbr_qss", 0.05, "forward_euler", 0.9, 0};
+};
+
+std::unique_ptr<Scene> make_cell_scene(CellParameters p = {});
+std::unique_ptr<Scene> make_depolarization_scene(DepolarizationParameters p = {});
+std::unique_ptr<Scene> make_spiral_wave_scene(SpiralWaveParameters p = {});
+std::unique_ptr<Scene> make_niederer_slab_scene(NiedererSlabParameters p = {});
+
+}  // namespace cardiosph

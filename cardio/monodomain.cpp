@@ -1,0 +1,116 @@
+#include "cardio/monodomain.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "libsph/core/parallel.hpp"
+
+namespace cardio {
+
+namespace {
+template <int Dim>
+typename sph::ScalarDiffusionSystem<Dim>::Settings diffusion_settings(const typename Monodomain<Dim>::Settings& s) {
+  typename sph::ScalarDiffusionSystem<Dim>::Settings d;
+  d.field_name = "transmembrane_potential";
+  d.diffusion_tensor = s.diffusion_tensor;
+  d.correction = s.correction;
+  d.integrator = s.diffusion_integrator;
+  d.cfl = s.diffusion_cfl;
+  return d;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+}  // namespace
+
+template <int Dim>
+typename Monodomain<Dim>::Reaction Monodomain<Dim>::make_reaction(sph::ParticleSet<Dim>& particles, const Settings& settings) {
+  return std::visit(
+      [&](const auto& model) -> Reaction {
+        using M = std::decay_t<decltype(model)>;
+        return sph::ReactionSystem<Dim, M>(particles, model, {settings.scheme, settings.write_states});
+      },
+      settings.cell_model);
+}
+
+template <int Dim>
+Monodomain<Dim>::Monodomain(sph::ParticleSet<Dim>& particles, const sph::InnerRelation<Dim>& relation, Settings settings)
+    : particles_(particles),
+      settings_(std::move(settings)),
+      reaction_(make_reaction(particles, settings_)),
+      diffusion_(particles, relation, diffusion_settings<Dim>(settings_)) {
+  if (!(settings_.time_step > 0 && std::isfinite(settings_.time_step)))
+    throw std::invalid_argument("monodomain on '" + particles.name() + "': the time step must be positive");
+  const std::size_t n = particles.n_particles();
+  for (const auto& region : settings_.stimuli)
+    for (std::size_t i : region.particles)
+      if (i >= n)
+        throw std::invalid_argument("monodomain on '" + particles.name() + "': stimulus region '" + region.name +
+                                    "' names particle " + std::to_string(i) + " of " + std::to_string(n));
+  potential_ = std::visit([](const auto& r) { return r.potential_field(); }, reaction_);
+  activation_ = particles.template register_field<Real>("activation_time", Real(-1));
+  stimulus_.assign(n, 0);
+  previous_potential_.assign(n, 0);
+}
+
+template <int Dim>
+void Monodomain<Dim>::react(Real time, Real dt) {
+  const auto start = std::chrono::steady_clock::now();
+  bool any = false;
+  for (const auto& region : settings_.stimuli) any = any || region.protocol.average(time, dt) != 0;
+  if (any) {
+    std::fill(stimulus_.begin(), stimulus_.end(), Real(0));
+    for (const auto& region : settings_.stimuli) {
+      const auto s = static_cast<Real>(region.protocol.average(time, dt));
+      for (std::size_t i : region.particles) stimulus_[i] += s;
+    }
+  }
+  std::visit([&](auto& r) { r.advance(time, dt, any ? std::span<const Real>(stimulus_) : std::span<const Real>()); },
+             reaction_);
+  timings_.reaction += seconds_since(start);
+}
+
+template <int Dim>
+void Monodomain<Dim>::advance(Real time, Real dt) {
+  auto V = particles_.field(potential_);
+  std::copy(V.begin(), V.end(), previous_potential_.begin());
+
+  const Real half = dt / 2;
+  react(time, half);
+  const auto start = std::chrono::steady_clock::now();
+  const auto substeps = static_cast<std::size_t>(std::ceil(dt / diffusion_.stable_time_step() * (1 - 1e-12)));
+  const Real sub_dt = dt / static_cast<Real>(std::max<std::size_t>(substeps, 1));
+  for (std::size_t s = 0; s < std::max<std::size_t>(substeps, 1); ++s) diffusion_.advance(time + s * sub_dt, sub_dt);
+  diffusion_substeps_ += std::max<std::size_t>(substeps, 1);
+  timings_.diffusion += seconds_since(start);
+  react(time + half, half);
+
+  // Activation: the first upward crossing of the threshold, interpolated linearly in the step.
+  const Real threshold = settings_.activation_threshold;
+  auto activation = particles_.field(activation_);
+  sph::parallel_for(V.size(), [&](std::size_t i) {
+    if (activation[i] >= 0 || !(previous_potential_[i] < threshold && V[i] >= threshold)) return;
+    const Real fraction = (threshold - previous_potential_[i]) / (V[i] - previous_potential_[i]);
+    activation[i] = time + fraction * dt;
+  });
+}
+
+template <int Dim>
+bool Monodomain<Dim>::all_activated() const {
+  const auto activation = particles_.field(activation_);
+  return sph::first_index_where(activation.size(), [&](std::size_t i) { return activation[i] < 0; }) >= activation.size();
+}
+
+template <int Dim>
+Real Monodomain<Dim>::latest_activation() const {
+  if (!all_activated()) return -1;
+  const auto activation = particles_.field(activation_);
+  return sph::parallel_max(activation.size(), Real(-1), [&](std::size_t i) { return activation[i]; });
+}
+
+template class Monodomain<2>;
+template class Monodomain<3>;
+
+}  // namespace cardio

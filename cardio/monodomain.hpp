@@ -1,0 +1,104 @@
+#pragma once
+// Monodomain electrophysiology on a fixed particle set (Zhang et al. 2021, CMAME 381:113847, eq. 1):
+//   chi C_m dV/dt = div(sigma grad V) - chi I_ion + I_stim,
+// written per unit capacitance as
+//   dV/dt = div(D grad V) + R(V, y) + s,   D = sigma / (chi C_m),   s = I_stim / (chi C_m).
+// In mm, ms, mV with sigma in S/m, chi in 1/mm and C_m in uF/mm^2, D [mm^2/ms] = sigma / (chi C_m)
+// with no further factor (monodomain_diffusivity below).
+//
+// One step of size dt is Strang operator splitting (reaction / diffusion / reaction):
+//   cells over dt/2 (scheme of the cell model, stimulus averaged over the half step),
+//   diffusion over dt in equal sub-steps at most the diffusion stability limit,
+//   cells over dt/2,
+// followed by the activation-time update: the first time V rises through the threshold, found by
+// linear interpolation within the step. The diffusion is the anisotropic SPH operator of
+// libsph/diffusion with conductivity tensors D_t I + (D_l - D_t) f (x) f from the fibres.
+
+#include <chrono>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "libsph/core/neighbour_relation.hpp"
+#include "libsph/core/particles.hpp"
+#include "libsph/diffusion/diffusion_system.hpp"
+#include "libsph/reaction/cell_models.hpp"
+#include "libsph/reaction/reaction_system.hpp"
+#include "libsph/reaction/stimulus.hpp"
+
+namespace cardio {
+
+using sph::Real;
+
+/// D = sigma / (chi C_m) [mm^2/ms] for sigma [S/m], chi [1/mm], C_m [uF/mm^2].
+inline Real monodomain_diffusivity(double sigma, double chi, double capacitance) {
+  return static_cast<Real>(sigma / (chi * capacitance));
+}
+
+template <int Dim>
+class Monodomain {
+ public:
+  struct StimulusRegion {
+    std::string name;                    ///< for messages and reports
+    std::vector<std::size_t> particles;  ///< the stimulated particles
+    sph::StimulusProtocol protocol;      ///< strength as dV/dt [mV/ms]
+  };
+  struct Settings {
+    sph::AnyCellModel cell_model = sph::AlievPanfilov{};
+    sph::ReactionScheme scheme = sph::ReactionScheme::rbr_qss;
+    Real time_step = Real(0.05);                   ///< splitting step [ms]
+    std::vector<sph::Mat<Dim>> diffusion_tensor;   ///< D [mm^2/ms], one (uniform) or one per particle
+    sph::DiffusionCorrection correction = sph::DiffusionCorrection::moment;
+    sph::DiffusionIntegrator diffusion_integrator = sph::DiffusionIntegrator::forward_euler;
+    Real diffusion_cfl = Real(0.9);                ///< fraction of the diffusion stability limit
+    Real activation_threshold = 0;                 ///< V of the upstroke that marks activation [mV]
+    std::vector<StimulusRegion> stimuli;
+    bool write_states = false;                     ///< write every cell state variable to output
+  };
+  /// Seconds spent in each part of the step, for run reports.
+  struct Timings {
+    double reaction = 0, diffusion = 0;
+  };
+
+  /// The relation must be the inner relation of `particles` and outlive the system.
+  Monodomain(sph::ParticleSet<Dim>& particles, const sph::InnerRelation<Dim>& relation, Settings settings);
+
+  /// The splitting step (the reaction schemes of the cell models are stable at any step).
+  Real time_step() const { return settings_.time_step; }
+  /// The diffusion sub-step limit (cfl times the forward-Euler limit of the assembled operator).
+  Real diffusion_time_step() const { return diffusion_.stable_time_step(); }
+  /// One Strang step from `time` by dt.
+  void advance(Real time, Real dt);
+
+  sph::FieldHandle<Real> potential_field() const { return potential_; }
+  sph::FieldHandle<Real> activation_field() const { return activation_; }
+  /// True when every particle has been activated.
+  bool all_activated() const;
+  /// Latest activation time over the particles [ms], or -1 if some particle is not activated.
+  Real latest_activation() const;
+  const Timings& timings() const { return timings_; }
+  std::size_t diffusion_substeps() const { return diffusion_substeps_; }
+  const Settings& settings() const { return settings_; }
+  /// The stimulus regions, which may be changed between steps (e.g. a pulse timed by the state).
+  std::vector<StimulusRegion>& stimuli() { return settings_.stimuli; }
+
+ private:
+  using Reaction = std::variant<sph::ReactionSystem<Dim, sph::FitzHughNagumo>, sph::ReactionSystem<Dim, sph::AlievPanfilov>,
+                                sph::ReactionSystem<Dim, sph::TenTusscherPanfilov2006>>;
+  static Reaction make_reaction(sph::ParticleSet<Dim>& particles, const Settings& settings);
+  void react(Real time, Real dt);
+
+  sph::ParticleSet<Dim>& particles_;
+  Settings settings_;
+  Reaction reaction_;
+  sph::ScalarDiffusionSystem<Dim> diffusion_;
+  sph::FieldHandle<Real> potential_, activation_;
+  std::vector<Real> stimulus_, previous_potential_;
+  Timings timings_;
+  std::size_t diffusion_substeps_ = 0;
+};
+
+extern template class Monodomain<2>;
+extern template class Monodomain<3>;
+
+}  // namespace cardio

@@ -1,0 +1,47 @@
+#pragma once
+// A paced stimulus: pulses of `strength` (an applied dV/dt, I_stim / C_m, in the voltage unit per
+// ms) lasting `duration` ms, starting at `start` and repeated every `period` ms, `count` times.
+// Integrators take the stimulus as its average over their step, so the charge delivered is exact
+// whatever the step and however the step straddles a pulse edge.
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace sph {
+
+struct StimulusProtocol {
+  double start = 0;     ///< onset of the first pulse [ms]
+  double duration = 1;  ///< length of each pulse [ms]
+  double strength = 0;  ///< applied dV/dt during a pulse [voltage unit / ms]
+  double period = 0;    ///< time between pulse onsets [ms]; 0 with count 1
+  int count = 1;        ///< number of pulses
+
+  double onset(int pulse) const { return start + pulse * period; }
+
+  /// Mean applied rate over [t, t + dt] (the rate itself for dt = 0).
+  double average(double t, double dt) const {
+    double overlap = 0;
+    for (int p = 0; p < count; ++p) {
+      const double a = onset(p), b = a + duration;
+      if (dt <= 0) {
+        if (t >= a && t < b) return strength;
+        continue;
+      }
+      overlap += std::max(0.0, std::min(t + dt, b) - std::max(t, a));
+    }
+    return dt > 0 ? strength * overlap / dt : 0;
+  }
+
+  /// Pulse onsets and ends in (t0, t1], in order: where an adaptive integrator must restart.
+  std::vector<double> switching_times(double t0, double t1) const {
+    std::vector<double> times;
+    for (int p = 0; p < count; ++p)
+      for (double s : {onset(p), onset(p) + duration})
+        if (s > t0 && s <= t1) times.push_back(s);
+    std::sort(times.begin(), times.end());
+    return times;
+  }
+};
+
+}  // namespace sph
