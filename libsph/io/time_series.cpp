@@ -1,7 +1,6 @@
 #include "libsph/io/time_series.hpp"
 
 #include <iomanip>
-#include <sstream>
 #include <stdexcept>
 
 #include "libsph/io/atomic_file.hpp"
@@ -9,19 +8,34 @@
 namespace sph {
 
 TimeSeriesCsv::TimeSeriesCsv(std::filesystem::path path, std::vector<std::string> columns)
-    : path_(std::move(path)), columns_(std::move(columns)) {}
+    : path_(std::move(path)), partial_(path_.string() + ".partial"), n_columns_(columns.size()) {
+  out_.open(partial_, std::ios::trunc);
+  if (!out_) throw std::runtime_error("cannot write the time series '" + partial_.string() + "'");
+  for (std::size_t c = 0; c < columns.size(); ++c) out_ << (c ? "," : "") << columns[c];
+  out_ << '\n' << std::setprecision(12);
+  out_.flush();
+}
+
+TimeSeriesCsv::~TimeSeriesCsv() {
+  try {
+    close();
+  } catch (...) {
+    // A destructor must not throw; the .partial file is left for inspection.
+  }
+}
 
 void TimeSeriesCsv::record(const std::vector<double>& row) {
-  if (row.size() != columns_.size()) throw std::logic_error("time series '" + path_.string() + "': wrong row size");
-  rows_.push_back(row);
-  std::ostringstream s;
-  for (std::size_t c = 0; c < columns_.size(); ++c) s << (c ? "," : "") << columns_[c];
-  s << '\n' << std::setprecision(12);
-  for (const auto& r : rows_) {
-    for (std::size_t c = 0; c < r.size(); ++c) s << (c ? "," : "") << r[c];
-    s << '\n';
-  }
-  write_file_atomically(path_, s.str());
+  if (row.size() != n_columns_) throw std::logic_error("time series '" + path_.string() + "': wrong row size");
+  for (std::size_t c = 0; c < row.size(); ++c) out_ << (c ? "," : "") << row[c];
+  out_ << '\n';
+  out_.flush();
+  ++n_rows_;
+}
+
+void TimeSeriesCsv::close() {
+  if (!out_.is_open()) return;
+  out_.close();
+  commit_temporary(partial_, path_);
 }
 
 }  // namespace sph

@@ -1,8 +1,11 @@
 #pragma once
-// Observer (probe) time series as CSV: one header line, one row per recorded time. The whole file
-// is rewritten atomically at each flush, so it is always complete.
+// Observer (probe) time series as CSV: one header line, one row per recorded time. Rows are
+// appended to <path>.partial as they come (flushed, so a long run can be watched) and the file
+// takes its final name when the series is closed or destroyed, so a file under the final name is
+// always complete.
 
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -11,14 +14,21 @@ namespace sph {
 class TimeSeriesCsv {
  public:
   TimeSeriesCsv(std::filesystem::path path, std::vector<std::string> columns);
-  /// Appends a row (one value per column) and rewrites the file.
+  ~TimeSeriesCsv();
+  TimeSeriesCsv(const TimeSeriesCsv&) = delete;
+  TimeSeriesCsv& operator=(const TimeSeriesCsv&) = delete;
+
+  /// Appends a row (one value per column).
   void record(const std::vector<double>& row);
-  std::size_t n_rows() const { return rows_.size(); }
+  std::size_t n_rows() const { return n_rows_; }
+  /// Finishes the file and gives it its final name (also done by the destructor).
+  void close();
 
  private:
-  std::filesystem::path path_;
-  std::vector<std::string> columns_;
-  std::vector<std::vector<double>> rows_;
+  std::filesystem::path path_, partial_;
+  std::size_t n_columns_;
+  std::ofstream out_;
+  std::size_t n_rows_ = 0;
 };
 
 }  // namespace sph
