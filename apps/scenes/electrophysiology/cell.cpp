@@ -115,6 +115,7 @@ class CellScene final : public Scene {
     for (long rung = 0; rung < p_.resolution; ++rung) {
       const double dt = p_.smallest_time_step * std::pow(2.0, static_cast<double>(rung));
       csv << dt;
+      results["time_steps_ms"].push_back(dt);
       for (auto s : schemes) {
         Trace trace;
         const auto scheme_start = std::chrono::steady_clock::now();
@@ -124,8 +125,11 @@ class CellScene final : public Scene {
         });
         const double wall = seconds_since(scheme_start);
         const std::string key(sph::to_string(s));
+        results[key]["stable"].push_back(stable);
         if (!stable) {
           csv << ",nan,nan,nan,nan";
+          results[key]["apd90_error_ms"].push_back(nullptr);
+          results[key]["rms_mV"].push_back(nullptr);
           continue;
         }
         double sum = 0;
@@ -135,6 +139,8 @@ class CellScene final : public Scene {
         const double apd = sph::measure_action_potential(trace.t, trace.V, last_beat, p_.end_time).duration();
         const double apd_error = apd > 0 ? std::abs(apd - apd_ref) : std::numeric_limits<double>::infinity();
         csv << ',' << wall << ',' << rms << ',' << apd << ',' << apd_error;
+        results[key]["apd90_error_ms"].push_back(apd_error);
+        results[key]["rms_mV"].push_back(rms);
         largest_stable[key] = dt;
         if (apd_error <= 0.05 * apd_ref) largest_within_5pct[key] = std::max(largest_within_5pct[key], dt);
         if (rung == 0) ctx.report.errors[name + "_" + key + "_apd90_relative"] = apd_error / apd_ref;

@@ -34,9 +34,9 @@ struct DepolarizationParameters {
 /// `spiral-wave`: 2D Aliev-Panfilov spiral from an S1-S2 cross-field stimulus (mm, ms, mV).
 struct SpiralWaveParameters {
   long resolution = 128;          ///< particles across the domain
-  double end_time = 2000;         ///< [ms]
+  double end_time = 5000;         ///< [ms]
   std::string domain = "square";  ///< square or disc
-  double size = 64;               ///< side of the square or diameter of the disc [mm]
+  double size = 100;              ///< side of the square or diameter of the disc [mm]
   double diffusivity_longitudinal = 0.1;  ///< along the fibres (x) [mm^2/ms]
   double diffusivity_transverse = 0.1;    ///< across [mm^2/ms]
   double stimulus_strength = 50;  ///< [mV/ms]
