@@ -1,9 +1,11 @@
 #include "apps/cli.hpp"
 
 #include <iostream>
+#include <map>
 
 #include <CLI/CLI.hpp>
 
+#include "apps/mesh_command.hpp"
 #include "apps/run_scene.hpp"
 #include "apps/study.hpp"
 
@@ -31,11 +33,25 @@ int run_cli(int argc, const char* const* argv) {
   auto* list = app.add_subcommand("list", "list the scenes");
   CommonOptions options;
   std::vector<std::pair<std::string, CLI::App*>> scene_commands;
+  // Scene parameters that also have a positional argument or an option of their own.
+  std::map<std::string, std::string> shortcut_values;
   for (const auto& scene : scene_registry()) {
     auto* command = app.add_subcommand(scene.name, scene.summary);
     add_common_options(*command, options);
+    for (const auto& key : scene.positional)
+      command->add_option(key, shortcut_values[scene.name + "/" + key], "same as --set " + key + "=...");
+    for (const auto& key : scene.shortcuts)
+      command->add_option("--" + key, shortcut_values[scene.name + "/" + key], "same as --set " + key + "=...");
     scene_commands.emplace_back(scene.name, command);
   }
+  std::string mesh_kind;
+  std::filesystem::path mesh_out = "meshes";
+  double mesh_edge = 0;
+  auto* mesh = app.add_subcommand("mesh", "write an analytic heart mesh (lv-ellipsoid, biventricular) as STL/OBJ files");
+  mesh->add_option("kind", mesh_kind, "lv-ellipsoid or biventricular")->required();
+  mesh->add_option("--out", mesh_out, "output folder (default: meshes)");
+  mesh->add_option("--edge", mesh_edge, "target triangle edge length in mm (default 0.5 for the LV, 1.5 for the biventricular heart)");
+  mesh->add_flag("--quiet", options.quiet, "print nothing");
   std::string study_scene, sweep;
   auto* study = app.add_subcommand("study", "run a scene at several settings; error against wall time");
   study->add_option("scene", study_scene, "scene to study")->required();
@@ -58,8 +74,12 @@ int run_cli(int argc, const char* const* argv) {
       return exit_ok;
     }
     if (study->parsed()) return run_study(study_scene, sweep, options);
+    if (mesh->parsed()) return run_mesh_command(mesh_kind, mesh_out, mesh_edge, options.quiet);
     for (const auto& [name, command] : scene_commands) {
       if (!command->parsed()) continue;
+      for (const auto& [key, value] : shortcut_values)
+        if (!value.empty() && key.rfind(name + "/", 0) == 0)
+          options.assignments.insert(options.assignments.begin(), key.substr(name.size() + 1) + "=" + value);
       const auto result = run_scene(name, options);
       if (options.print_parameters_only) return exit_ok;
       if (result.exit_code == exit_ok && !options.quiet) {

@@ -3,6 +3,8 @@
 // problem and leaves no output folder; a good run writes report.json with the contract's keys.
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -143,6 +145,86 @@ TEST_F(Cli, StudyWritesTableAndOrders) {
 TEST_F(Cli, BadSweepIsRejected) { expect_rejected({"study", "diffusion", "--sweep", "resolution=10"}, "at least two"); }
 TEST_F(Cli, BadSweepValueIsRejectedBeforeAnyRun) {
   expect_rejected({"study", "diffusion", "--sweep", "resolution=10,-3"}, "'resolution'");
+}
+
+// --- particles: bad meshes exit 2 naming the problem, with nothing written ------------------------
+
+// ASCII STL of triangles given as 9 numbers each.
+std::string ascii_stl(const std::vector<std::array<double, 9>>& triangles) {
+  std::string s = "solid test\n";
+  for (const auto& t : triangles) {
+    s += "facet normal 0 0 0\nouter loop\n";
+    for (int k = 0; k < 3; ++k)
+      s += "vertex " + std::to_string(t[3 * k]) + " " + std::to_string(t[3 * k + 1]) + " " + std::to_string(t[3 * k + 2]) + "\n";
+    s += "endloop\nendfacet\n";
+  }
+  return s + "endsolid test\n";
+}
+
+// The 12 outward triangles of the box [o, o + size]^3.
+std::vector<std::array<double, 9>> box_triangles(double o, double size) {
+  const double a = o, b = o + size;
+  const double v[8][3] = {{a, a, a}, {b, a, a}, {b, b, a}, {a, b, a}, {a, a, b}, {b, a, b}, {b, b, b}, {a, b, b}};
+  const int f[12][3] = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                        {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
+  std::vector<std::array<double, 9>> t;
+  for (const auto& face : f) {
+    std::array<double, 9> tri{};
+    for (int k = 0; k < 3; ++k)
+      for (int d = 0; d < 3; ++d) tri[3 * k + d] = v[face[k]][d];
+    t.push_back(tri);
+  }
+  return t;
+}
+
+TEST_F(Cli, ParticlesRejectsAnOpenBox) {
+  auto t = box_triangles(0, 10);
+  t.pop_back();
+  t.pop_back();
+  expect_rejected({"particles", write("open.stl", ascii_stl(t)).string(), "--dp", "1", "--set", "cache=none"}, "border edges");
+}
+TEST_F(Cli, ParticlesRejectsInvertedNormals) {
+  auto t = box_triangles(0, 10);
+  for (auto& tri : t) std::swap_ranges(tri.begin(), tri.begin() + 3, tri.begin() + 3);
+  expect_rejected({"particles", write("inverted.stl", ascii_stl(t)).string(), "--dp", "1", "--set", "cache=none"}, "negative");
+}
+TEST_F(Cli, ParticlesRejectsOverlappingShells) {
+  auto t = box_triangles(0, 10);
+  const auto u = box_triangles(5, 10);
+  t.insert(t.end(), u.begin(), u.end());
+  expect_rejected({"particles", write("overlap.stl", ascii_stl(t)).string(), "--dp", "1", "--set", "cache=none"}, "self-intersecting");
+}
+TEST_F(Cli, ParticlesRejectsAnEmptyFile) {
+  expect_rejected({"particles", write("empty.stl", "").string(), "--dp", "1", "--set", "cache=none"}, "empty");
+}
+TEST_F(Cli, ParticlesRejectsATruncatedBinaryStl) {
+  std::string bytes(80, ' ');
+  const std::uint32_t n = 12;
+  bytes.append(reinterpret_cast<const char*>(&n), 4);
+  bytes.append(50 * 5, '\0');  // 5 of the 12 announced triangles
+  expect_rejected({"particles", write("truncated.stl", bytes).string(), "--dp", "1", "--set", "cache=none"}, "truncated");
+}
+TEST_F(Cli, ParticlesRejectsANonMeshFile) {
+  expect_rejected({"particles", write("notes.obj", "these are my notes, not a mesh\n").string(), "--dp", "1", "--set", "cache=none"},
+                  "notes.obj");
+}
+TEST_F(Cli, ParticlesRejectsAMissingMesh) {
+  expect_rejected({"particles", (folder_ / "nowhere.stl").string(), "--dp", "1"}, "no such file");
+}
+
+TEST_F(Cli, ParticlesOfABoxWithUniformFibres) {
+  const fs::path mesh = write("box.stl", ascii_stl(box_triangles(0, 10)));
+  const fs::path out = folder_ / "out";
+  ASSERT_EQ(run({"particles", mesh.string(), "--dp", "1", "--set", "fibres=uniform", "--set", "cache=none", "--quiet",
+                 "--output", out.string()}),
+            0)
+      << stderr_;
+  std::ifstream in(out / "report.json");
+  const auto report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["results"]["particles"], 1000);
+  EXPECT_LT(std::abs(report["results"]["volume_relative_error"].get<double>()), 1e-9);
+  EXPECT_TRUE(fs::exists(out / "particles.pvd"));
+  EXPECT_FALSE(report["results"].contains("fiber_angle_mad_deg"));
 }
 
 }  // namespace

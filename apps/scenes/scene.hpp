@@ -35,6 +35,10 @@ struct SceneEntry {
   std::string name;
   std::string summary;
   std::function<std::unique_ptr<Scene>()> make;
+  /// Parameters also given as positional arguments (in order), e.g. `cardiosph particles MESH`.
+  std::vector<std::string> positional = {};
+  /// Parameters also given as `--key value`.
+  std::vector<std::string> shortcuts = {};
 };
 
 /// Every scene of the application, in the order `cardiosph list` shows them.

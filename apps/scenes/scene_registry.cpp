@@ -1,5 +1,6 @@
 #include "apps/scenes/diffusion_scenes.hpp"
 #include "apps/scenes/electrophysiology/ep_scenes.hpp"
+#include "apps/scenes/geometry/geometry_scenes.hpp"
 #include "apps/scenes/scene.hpp"
 #include "apps/scenes/solid/solid_scenes.hpp"
 
@@ -29,6 +30,8 @@ const std::vector<SceneEntry>& scene_registry() {
        [] { return make_spiral_wave_scene(); }},
       {"niederer-slab", "3D ten Tusscher-Panfilov slab benchmark (Niederer et al. 2011): activation times at P1..P9",
        [] { return make_niederer_slab_scene(); }},
+      {"particles", "heart mesh to body-fitted particles, surface labels and LDRB fibres (cached): volume and fibre-angle errors",
+       [] { return make_particles_scene(); }, {"mesh"}, {"dp"}},
   };
   return scenes;
 }

@@ -138,6 +138,15 @@ void Parameters::add(const std::string& key, bool& value, const std::string& hel
   add_entry(std::move(e));
 }
 
+void Parameters::add_text(const std::string& key, std::string& value, const std::string& help) {
+  Entry e{key, "", help, Range::any(), {}, {}, {}, {}, {}};
+  e.parse = [&value](const std::string& text, const std::string&) { value = text; };
+  e.text = [&value] { return value; };
+  e.json = [&value] { return nlohmann::json(value); };
+  e.check = [](const std::string&) {};
+  add_entry(std::move(e));
+}
+
 void Parameters::add_choice(const std::string& key, std::string& value, std::vector<std::string> choices,
                             const std::string& help) {
   Entry e{key, "", help, Range::any(), choices, {}, {}, {}, {}};

@@ -47,6 +47,8 @@ class Parameters {
            Range range = Range::any());
   void add(const std::string& key, bool& value, const std::string& help);
   void add_choice(const std::string& key, std::string& value, std::vector<std::string> choices, const std::string& help);
+  /// Free text (a file path, a vector "x,y,z"); the scene checks its meaning.
+  void add_text(const std::string& key, std::string& value, const std::string& help);
 
   bool has(const std::string& key) const;
   /// Parses `text` for `key` and checks it; `origin` (e.g. "--set", a file name) goes into errors.

@@ -1,0 +1,35 @@
+#pragma once
+// Parameters of the cached heart-geometry stage (cardio/heart_geometry.hpp), declared the same way
+// by every scene that starts from a mesh.
+
+#include <filesystem>
+#include <string>
+
+#include "cardio/heart_geometry.hpp"
+#include "libsph/io/parameters.hpp"
+
+namespace cardiosph {
+
+/// The shipped meshes (meshes/ of the source tree).
+std::filesystem::path shipped_mesh(const std::string& file);
+
+struct HeartGeometryParameters {
+  std::string mesh;           ///< path; default set by the scene
+  double scale = 1.0;
+  bool repair = false;
+  double dp = 0.5;
+  long relaxation_steps = 100;
+  std::string epi_surface, lv_surface, rv_surface, base_surface;
+  std::string fibres = "ldrb";
+  double alpha_endo = 60, alpha_epi = -60, beta_endo = 0, beta_epi = 0;
+  std::string uniform_fibre = "1,0,0", uniform_sheet = "0,1,0";
+  std::string fibre_file;
+  std::string cache;          ///< folder; "" = default, "none" = no cache
+
+  void declare(sph::Parameters& p);
+  /// Checks and converts; throws sph::ParameterError naming the parameter.
+  cardio::HeartGeometrySettings settings() const;
+  std::filesystem::path cache_folder() const;
+};
+
+}  // namespace cardiosph

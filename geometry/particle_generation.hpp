@@ -1,0 +1,69 @@
+#pragma once
+// Body-fitted particles inside a shape.
+//
+// 1. Level set: the shape's signed distance sampled on a grid of spacing dp (nodes on the particle
+//    lattice, padded by three cells), exact in a band around the surface and interpolated from a
+//    coarser grid far from it; trilinear interpolation gives distance and normal anywhere.
+// 2. Lattice: one particle at every node inside the shape.
+// 3. Relaxation: particles move against the zero-order consistency residual
+//        r_i = sum_j V0 grad_i W_ij + A(d_i) n_i,      V0 = dp^3,
+//    which vanishes for a uniform distribution. The second term is the part of the kernel support
+//    outside the shape, integrated over the level-set nodes there (each weighted by the outside
+//    fraction of its cell), as in the level-set correction of the body-fitted particle generator of
+//    Zhu, Zhang, Yu & Hu 2021 (J. Hydrodyn. 33:195): the outside acts as if filled with particles,
+//    so the surface neither attracts nor expels them and holds the outer layer near depth dp/2.
+//    Each step moves x_i by -gamma h^2 r_i (at most 0.1 dp) and puts a particle that left the shape
+//    back at depth 0.1 dp. A hard projection of the outer layer to depth dp/2 (a common choice) was
+//    measured to compress it: on a sphere of radius 10 dp the volumes then summed 1.8 % short.
+// 4. Volumes: V_i = dp^3 S_lattice / (sum_j W_ij + W(0) + outside part), with S_lattice the same sum
+//    on a perfect lattice (the kernel's discrete normalisation, about 1.009 / dp^3 for Wendland C2 at
+//    h = 1.3 dp), so that a lattice particle has exactly dp^3 and a surface particle is not
+//    credited with the missing support.
+//
+// Reported: the particle count, sum V_i against the shape's volume, and the spread of V_i.
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "geometry/shape.hpp"
+
+namespace geometry {
+
+struct ParticleGenerationSettings {
+  double spacing = 0;                   ///< dp [length]
+  double smoothing_ratio = 1.3;         ///< h / dp
+  std::string kernel = "wendland_c2";   ///< kernel used by the relaxation and the volumes
+  long relaxation_steps = 100;          ///< 0: keep the lattice
+  double relaxation_gain = 0.2;         ///< gamma in dx = -gamma h^2 r
+  /// Stop early once the largest displacement of a step falls below this fraction of dp.
+  double converged_displacement = 1e-4;
+  /// Called every step with (step, rms residual * h).
+  std::function<void(long, double)> on_step;
+};
+
+struct BodyParticles {
+  std::vector<Vec3> positions;
+  std::vector<double> volumes;
+  std::vector<double> depth;          ///< -signed distance (> 0 inside)
+  std::vector<Vec3> normals;          ///< outward normal of the nearest surface point
+  std::vector<std::uint8_t> surface;  ///< 1 for the outer layer (depth < dp)
+
+  // Statistics.
+  double shape_volume = 0;            ///< the shape's volume (exact or integrated)
+  double volume_relative_error = 0;   ///< (sum V_i - shape_volume) / shape_volume
+  double density_spread = 0;          ///< standard deviation of V_i / mean V_i
+  double volume_min_ratio = 0, volume_max_ratio = 0;  ///< min and max of V_i / dp^3
+  double residual_initial = 0, residual_final = 0;    ///< rms |r_i| h over all particles
+  long relaxation_steps_done = 0;
+  double level_set_seconds = 0, lattice_seconds = 0, relaxation_seconds = 0, volume_seconds = 0;
+
+  std::size_t size() const { return positions.size(); }
+};
+
+/// Particles of spacing settings.spacing filling `shape` (see the file comment). Throws
+/// std::invalid_argument when the spacing is not positive or leaves no particle inside.
+BodyParticles generate_particles(const Shape& shape, const ParticleGenerationSettings& settings);
+
+}  // namespace geometry
