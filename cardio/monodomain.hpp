@@ -67,6 +67,10 @@ class Monodomain {
   Real time_step() const { return settings_.time_step; }
   /// The diffusion sub-step limit (cfl times the forward-Euler limit of the assembled operator).
   Real diffusion_time_step() const { return diffusion_.stable_time_step(); }
+  /// Replaces the diffusion tensors (one, or one per particle) and reassembles the operator.
+  void set_diffusion_tensor(std::vector<sph::Mat<Dim>> diffusion_tensor) {
+    diffusion_.set_diffusion_tensor(std::move(diffusion_tensor));
+  }
   /// One Strang step from `time` by dt.
   void advance(Real time, Real dt);
 

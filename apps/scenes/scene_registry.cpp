@@ -1,4 +1,5 @@
 #include "apps/scenes/diffusion_scenes.hpp"
+#include "apps/scenes/electromechanics/em_scenes.hpp"
 #include "apps/scenes/electrophysiology/ep_scenes.hpp"
 #include "apps/scenes/geometry/geometry_scenes.hpp"
 #include "apps/scenes/scene.hpp"
@@ -8,6 +9,9 @@ namespace cardiosph {
 
 const std::vector<SceneEntry>& scene_registry() {
   static const std::vector<SceneEntry> scenes{
+      {"heart", "excitation-contraction of a ventricular mesh (default: the shipped biventricular heart): activation, "
+                "active tension, cavity volumes and ejection fractions",
+       [] { return make_heart_scene(); }, {"mesh"}, {"dp", "preset", "beats"}},
       {"diffusion", "2D isotropic diffusion of a band, against the error-function solution",
        [] { return make_diffusion_band_scene(); }},
       {"diffusion-aniso", "2D anisotropic diffusion (ratio 10, at 30 degrees) of a Gaussian, against the exact Gaussian",
@@ -32,6 +36,11 @@ const std::vector<SceneEntry>& scene_registry() {
        [] { return make_niederer_slab_scene(); }},
       {"particles", "heart mesh to body-fitted particles, surface labels and LDRB fibres (cached): volume and fibre-angle errors",
        [] { return make_particles_scene(); }, {"mesh"}, {"dp"}},
+      {"myocardium-cube", "active myocardium cube on a sliding holder (prescribed tension): corner displacements and "
+                          "equilibrium residual",
+       [] { return make_myocardium_cube_scene(); }},
+      {"land-lv", "Land et al. 2015 problems 2 and 3 on the idealised LV: apex positions against the published ones",
+       [] { return make_land_lv_scene(); }},
   };
   return scenes;
 }

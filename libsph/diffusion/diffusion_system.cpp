@@ -22,21 +22,30 @@ ScalarDiffusionSystem<Dim>::ScalarDiffusionSystem(ParticleSet<Dim>& particles, c
   for (const auto& D : settings_.diffusion_tensor) check_diffusion_tensor<Dim>(D, "diffusion on '" + particles_.name() + "'");
 
   value_ = particles_.template register_field<Real>(settings_.field_name, Real(0));
-  std::vector<Mat<Dim>> correction_matrix;
   if (settings_.correction == DiffusionCorrection::gradient) {
     const auto handle = particles_.template register_field<Mat<Dim>>("correction_matrix", Mat<Dim>::Identity(), false);
     compute_correction_matrix<Dim>(relation_, particles_.volume, particles_.field(handle));
     const auto B = particles_.field(handle);
-    correction_matrix.assign(B.begin(), B.end());
+    correction_matrix_.assign(B.begin(), B.end());
   }
   pair_coefficient_ = diffusion_pair_coefficients<Dim>(relation_, particles_.volume, settings_.diffusion_tensor,
-                                                       settings_.correction, correction_matrix);
+                                                       settings_.correction, correction_matrix_);
   step_limit_ = diffusion_time_step_limit<Dim>(relation_, pair_coefficient_);
   rate_.resize(n);
   if (settings_.integrator == DiffusionIntegrator::heun) {
     predicted_.resize(n);
     predicted_rate_.resize(n);
   }
+}
+
+template <int Dim>
+void ScalarDiffusionSystem<Dim>::set_diffusion_tensor(std::vector<Mat<Dim>> diffusion_tensor) {
+  if (diffusion_tensor.size() != 1 && diffusion_tensor.size() != particles_.n_particles())
+    throw std::invalid_argument("diffusion on '" + particles_.name() + "': need one diffusion tensor or one per particle");
+  settings_.diffusion_tensor = std::move(diffusion_tensor);
+  pair_coefficient_ = diffusion_pair_coefficients<Dim>(relation_, particles_.volume, settings_.diffusion_tensor,
+                                                       settings_.correction, correction_matrix_);
+  step_limit_ = diffusion_time_step_limit<Dim>(relation_, pair_coefficient_);
 }
 
 template <int Dim>

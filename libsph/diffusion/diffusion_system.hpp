@@ -36,6 +36,9 @@ class ScalarDiffusionSystem {
   FieldHandle<Real> value_field() const { return value_; }
   /// Stable step: cfl times the forward-Euler limit of the assembled operator.
   Real stable_time_step() const { return settings_.cfl * step_limit_; }
+  /// Replaces the diffusion tensors (one, or one per particle) and reassembles the operator and its
+  /// step limit, e.g. for a tensor pulled back through a deformation.
+  void set_diffusion_tensor(std::vector<Mat<Dim>> diffusion_tensor);
   /// Advances the field from `time` by dt; throws NumericalFailure if a value becomes non-finite.
   void advance(Real time, Real dt);
   const Settings& settings() const { return settings_; }
@@ -45,6 +48,7 @@ class ScalarDiffusionSystem {
   const InnerRelation<Dim>& relation_;
   Settings settings_;
   FieldHandle<Real> value_;
+  std::vector<Mat<Dim>> correction_matrix_;  // gradient correction only
   std::vector<Real> pair_coefficient_;
   Real step_limit_ = 0;
   std::vector<Real> rate_, predicted_, predicted_rate_;  // scratch, allocated once

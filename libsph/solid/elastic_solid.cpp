@@ -48,6 +48,10 @@ ElasticSolid<Dim>::ElasticSolid(ParticleSet<Dim>& particles, const InnerRelation
     sheet_ = particles_.template register_field<Vec<Dim>>("sheet_direction", s);
     fiber_stretch_ = particles_.template register_field<Real>("fiber_stretch", Real(1));
   }
+  if (settings_.active_stress) {
+    if (!anisotropic) throw std::invalid_argument(body + ": active stress needs a law with fibre directions");
+    active_tension_ = particles_.template register_field<Real>("active_tension", Real(0));
+  }
   compute_correction_matrix<Dim>(relation_, particles_.volume, particles_.field(correction_matrix_));
   previous_position_.resize(n);
   previous_velocity_.resize(n);
@@ -134,7 +138,14 @@ void ElasticSolid<Dim>::compute_stress() {
         if constexpr (Law::anisotropic) {
           const auto f = particles_.field(fiber_);
           const auto s = particles_.field(sheet_);
-          parallel_for(F.size(), [&](std::size_t i) { PB[i].noalias() = F[i] * law.second_piola(F[i], f[i], s[i]) * B[i]; });
+          if (active_tension_.valid()) {
+            const auto T = particles_.field(active_tension_);
+            parallel_for(F.size(), [&](std::size_t i) {
+              PB[i].noalias() = F[i] * (law.second_piola(F[i], f[i], s[i]) + T[i] * (f[i] * f[i].transpose())) * B[i];
+            });
+          } else {
+            parallel_for(F.size(), [&](std::size_t i) { PB[i].noalias() = F[i] * law.second_piola(F[i], f[i], s[i]) * B[i]; });
+          }
         } else {
           const Vec<Dim> none = Vec<Dim>::Zero();
           parallel_for(F.size(), [&](std::size_t i) { PB[i].noalias() = F[i] * law.second_piola(F[i], none, none) * B[i]; });
@@ -271,9 +282,15 @@ Mat<Dim> ElasticSolid<Dim>::cauchy_stress_of(std::size_t i) const {
   return std::visit(
       [&](const auto& law) {
         using Law = std::decay_t<decltype(law)>;
-        if constexpr (Law::anisotropic)
-          return cauchy_stress<Dim>(law, F, particles_.field(fiber_)[i], particles_.field(sheet_)[i]);
-        else
+        if constexpr (Law::anisotropic) {
+          const Vec<Dim>& f = particles_.field(fiber_)[i];
+          Mat<Dim> sigma = cauchy_stress<Dim>(law, F, f, particles_.field(sheet_)[i]);
+          if (active_tension_.valid()) {  // J^-1 F (T_a f0 (x) f0) F^T
+            const Vec<Dim> Ff = F * f;
+            sigma += particles_.field(active_tension_)[i] / F.determinant() * (Ff * Ff.transpose());
+          }
+          return sigma;
+        } else
           return cauchy_stress<Dim>(law, F, Vec<Dim>::Zero().eval(), Vec<Dim>::Zero().eval());
       },
       settings_.material);
@@ -331,6 +348,46 @@ typename ElasticSolid<Dim>::Energies ElasticSolid<Dim>::energies() {
   e.max_jacobian = parallel_max(F.size(), -std::numeric_limits<Real>::infinity(),
                                 [&](std::size_t i) { return F[i].determinant(); });
   return e;
+}
+
+template <int Dim>
+typename ElasticSolid<Dim>::Residual ElasticSolid<Dim>::equilibrium_residual(Real time) {
+  const std::size_t n = particles_.n_particles();
+  std::vector<char> constrained(n, 0);
+  for (const Index i : clamped_) constrained[i] = 1;
+  for (const auto& [set, component] : sliding_)
+    for (const Index i : set) constrained[i] = 1;
+  for (const auto& motion : prescribed_)
+    for (const Index i : motion.particles) constrained[i] = 1;
+  compute_deformation_gradient();
+  compute_stress();
+  compute_acceleration(time);
+  const auto a = particles_.field(acceleration_);
+  const auto& V = particles_.volume;
+  Residual r;
+  r.net = std::sqrt(parallel_sum(n, 0.0, [&](std::size_t i) {
+    return constrained[i] ? 0.0 : double((settings_.density * V[i] * a[i]).squaredNorm());
+  }));
+  if (active_tension_.valid()) {
+    // The divergence of the active stress alone: sum_j V_i V_j (Pa_i B_i + Pa_j B_j) grad W_ij.
+    const auto F = particles_.field(deformation_gradient_);
+    const auto B = particles_.field(correction_matrix_);
+    const auto f = particles_.field(fiber_);
+    const auto T = particles_.field(active_tension_);
+    std::vector<Mat<Dim>> PB(n);
+    parallel_for(n, [&](std::size_t i) { PB[i] = T[i] * (F[i] * f[i]) * (B[i].transpose() * f[i]).transpose(); });
+    const auto& rel = relation_;
+    r.active = std::sqrt(parallel_sum(n, 0.0, [&](std::size_t i) {
+      if (constrained[i]) return 0.0;
+      Vec<Dim> force = Vec<Dim>::Zero();
+      for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
+        const Index j = rel.neighbour[k];
+        force.noalias() += (V[i] * V[j] * rel.kernel_derivative[k]) * ((PB[i] + PB[j]) * rel.unit_vector[k]);
+      }
+      return double(force.squaredNorm());
+    }));
+  }
+  return r;
 }
 
 template <int Dim>

@@ -20,6 +20,12 @@
 // The damping is implicit in v, so it is stable for any rate. Stable step (acoustic, sec. 3.3 there):
 //   dt = cfl min( h / (c0 + max|v|), sqrt(h / max|a|) ),  c0 = sqrt(M / rho0), M the P-wave modulus.
 //
+// Active stress (Nash & Panfilov 2004, Prog. Biophys. Mol. Biol. 85:501), with Settings::active_stress:
+//   P = P_passive(F) + T_a F f0 (x) f0,   i.e. S = S_passive + T_a f0 (x) f0,
+// a tension T_a [stress] per particle along the reference fibre f0 (field "active_tension", set by
+// the caller: prescribed, or from the electrophysiology by cardio/active_tension.hpp). The active
+// part derives from no stored energy, so energies() reports the passive strain energy only.
+//
 // Fields it registers (written to output unless noted): velocity, displacement, jacobian (J),
 // von_mises_stress, and for the anisotropic laws fiber_direction, sheet_direction and fiber_stretch;
 // not written: reference_position, acceleration, deformation_gradient, correction_matrix and the
@@ -51,6 +57,7 @@ class ElasticSolid {
     Real fixed_time_step = 0;                ///< > 0 replaces the stable step (no stability guarantee)
     Vec<Dim> fiber = Vec<Dim>::UnitX();      ///< initial (uniform) fibre direction, anisotropic laws
     Vec<Dim> sheet = Vec<Dim>::UnitY();      ///< initial (uniform) sheet direction
+    bool active_stress = false;              ///< add T_a f0 (x) f0 to S (anisotropic laws only)
   };
 
   using Motion = std::function<Vec<Dim>(const Vec<Dim>& reference, Real time)>;
@@ -86,10 +93,19 @@ class ElasticSolid {
   /// Stable step from the acoustic and acceleration criteria (see above), or the fixed step if set.
   Real stable_time_step() const;
 
+  /// Recomputes F at the current positions (deformation_gradient_field()).
+  void update_deformation_gradient() { compute_deformation_gradient(); }
   /// Recomputes F at the current positions and fills displacement, J, von Mises stress and fibre stretch.
   void update_output_fields();
   /// Kinetic energy sum 1/2 m v^2, strain energy sum V0 W(F) and the range of J at the current positions.
   Energies energies();
+  /// Equilibrium check of a (quasi-)static state: the l2 norms over the unconstrained particles of
+  /// the net nodal force V_i rho0 a_i (stress, hourglass, loads and body force; no damping) and of
+  /// the part of it from the active stress alone, at the current positions and `time`.
+  struct Residual {
+    double net = 0, active = 0;
+  };
+  Residual equilibrium_residual(Real time);
   /// Zero-energy-mode measure: the mean over pairs of |F_i X_ij - x_ij| / |X_ij| at the current positions.
   double hourglass_measure();
 
@@ -98,6 +114,8 @@ class ElasticSolid {
   FieldHandle<Vec<Dim>> fiber_field() const { return fiber_; }
   FieldHandle<Vec<Dim>> sheet_field() const { return sheet_; }
   FieldHandle<Mat<Dim>> deformation_gradient_field() const { return deformation_gradient_; }
+  /// T_a per particle [stress]; valid with Settings::active_stress only.
+  FieldHandle<Real> active_tension_field() const { return active_tension_; }
   /// Cauchy stress of particle i from its current F (after update_output_fields or a step).
   Mat<Dim> cauchy_stress_of(std::size_t i) const;
   Real sound_speed() const { return sound_speed_; }
@@ -136,7 +154,7 @@ class ElasticSolid {
   Real sound_speed_ = 0, hourglass_modulus_ = 0;
   FieldHandle<Vec<Dim>> reference_position_, velocity_, acceleration_, displacement_, fiber_, sheet_;
   FieldHandle<Mat<Dim>> deformation_gradient_, correction_matrix_, stress_correction_;
-  FieldHandle<Real> jacobian_, von_mises_, fiber_stretch_;
+  FieldHandle<Real> jacobian_, von_mises_, fiber_stretch_, active_tension_;
 
   std::vector<Index> clamped_;
   std::vector<std::pair<std::vector<Index>, int>> sliding_;

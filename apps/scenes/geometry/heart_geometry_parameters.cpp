@@ -31,7 +31,10 @@ void HeartGeometryParameters::declare(sph::Parameters& p) {
   p.add_text("mesh", mesh, "closed myocardium mesh: STL (ascii or binary), OBJ or PLY");
   p.add("scale", scale, "1", "multiplies the mesh coordinates (1000 for a file in metres)", sph::Range::positive());
   p.add("repair", repair, "repair orientation and holes instead of rejecting a bad mesh");
-  p.add("dp", dp, "mm", "particle spacing", sph::Range::positive());
+  if (dp_from_preset)
+    p.add("dp", dp, "mm", "particle spacing (0: from the preset)", sph::Range::non_negative());
+  else
+    p.add("dp", dp, "mm", "particle spacing", sph::Range::positive());
   p.add("relaxation_steps", relaxation_steps, "1", "particle relaxation steps (0: lattice)", sph::Range::non_negative());
   p.add_text("epi_surface", epi_surface, "separate epicardial surface mesh (labels by nearest surface)");
   p.add_text("lv_surface", lv_surface, "separate LV endocardial surface mesh");
@@ -88,6 +91,22 @@ cardio::HeartGeometrySettings HeartGeometryParameters::settings() const {
 std::filesystem::path HeartGeometryParameters::cache_folder() const {
   if (cache == "none") return {};
   return cache.empty() ? cardio::default_cache_folder() : std::filesystem::path(cache);
+}
+
+sph::ParticleSet<3> make_particle_set(const cardio::HeartGeometry& geometry, const std::string& name) {
+  const std::size_t n = geometry.body.size();
+  std::vector<sph::Vec<3>> x(n);
+  std::vector<sph::Real> v(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    x[i] = geometry.body.positions[i].cast<sph::Real>();
+    v[i] = sph::Real(geometry.body.volumes[i]);
+  }
+  return sph::ParticleSet<3>(name, std::move(x), std::move(v));
+}
+
+geometry::TriangleMesh read_geometry_mesh(const cardio::HeartGeometrySettings& settings) {
+  auto mesh = geometry::read_mesh(settings.mesh, settings.scale);
+  return settings.repair ? geometry::repair_mesh(mesh) : mesh;
 }
 
 }  // namespace cardiosph

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "cardio/heart_geometry.hpp"
+#include "libsph/core/particles.hpp"
 #include "libsph/io/parameters.hpp"
 
 namespace cardiosph {
@@ -18,6 +19,7 @@ struct HeartGeometryParameters {
   double scale = 1.0;
   bool repair = false;
   double dp = 0.5;
+  bool dp_from_preset = false;  ///< declare dp = 0 as "from the scene's preset"
   long relaxation_steps = 100;
   std::string epi_surface, lv_surface, rv_surface, base_surface;
   std::string fibres = "ldrb";
@@ -31,5 +33,11 @@ struct HeartGeometryParameters {
   cardio::HeartGeometrySettings settings() const;
   std::filesystem::path cache_folder() const;
 };
+
+/// The particles of a prepared geometry (positions and volumes) as a particle set.
+sph::ParticleSet<3> make_particle_set(const cardio::HeartGeometry& geometry, const std::string& name);
+
+/// The mesh of the geometry settings, read (and repaired) the way the geometry stage reads it.
+geometry::TriangleMesh read_geometry_mesh(const cardio::HeartGeometrySettings& settings);
 
 }  // namespace cardiosph

@@ -31,13 +31,7 @@ class ParticlesScene final : public Scene {
     const auto g = cardio::prepare_heart_geometry(settings, geometry_.cache_folder(), log);
     const std::size_t n = g.body.size();
 
-    std::vector<sph::Vec<3>> x(n);
-    std::vector<sph::Real> v(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      x[i] = g.body.positions[i].cast<sph::Real>();
-      v[i] = sph::Real(g.body.volumes[i]);
-    }
-    sph::ParticleSet<3> particles("myocardium", std::move(x), std::move(v));
+    auto particles = make_particle_set(g, "myocardium");
     auto vector_field = [&](const std::string& name, const std::vector<geometry::Vec3>& values) {
       if (values.size() != n) return;
       auto f = particles.field(particles.register_field<sph::Vec<3>>(name, sph::Vec<3>::Zero()));

@@ -38,7 +38,11 @@ SolidRunSummary run_solid(sph::ElasticSolid<Dim>& solid, const sph::NeighbourLis
   const auto end_time = static_cast<sph::Real>(plan.end_time);
   sph::TimeStepper stepper(0, end_time);
   stepper.add_stage({"solid", [&] { return solid.stable_time_step(); },
-                     [&](sph::Real t, sph::Real dt) { solid.advance(t, dt); }, false});
+                     [&](sph::Real t, sph::Real dt) {
+                       if (plan.before_step) plan.before_step(t, dt);
+                       solid.advance(t, dt);
+                     },
+                     false});
 
   sph::ParticleOutput<Dim> output(ctx.output_dir, plan.body);
   auto write_state = [&](double t) {

@@ -43,6 +43,7 @@ struct SolidRunPlan {
   double sample_interval = 0;        ///< observers and energies (0: end_time / 100)
   std::function<void(const sph::StepInfo&)> sample;      ///< observer callback (may be empty)
   std::function<void(const sph::StepInfo&)> every_step;  ///< after every step (may be empty)
+  std::function<void(sph::Real time, sph::Real dt)> before_step;  ///< before each step (may be empty)
 };
 
 struct SolidRunSummary {

@@ -1,0 +1,65 @@
+#pragma once
+// Cavity surfaces of a ventricular body: the LV and RV endocardia of the mesh, carried along with
+// the particles, for cavity volumes over time and cavity pressure loads.
+//
+// Each mesh face takes the label of the nearest labelled surface particle (so any labelling
+// method works: regions, geometric rule or separate surfaces). For each endocardial label:
+// - the faces and their vertices; a vertex P moves with the tissue by the first-order reconstruction
+//     x(P) = sum_i w_i (x_i + F_i (P - X_i)) / sum_i w_i,   w_i = V_i W(|P - X_i|, h),
+//   over the particles within one support of P in the reference configuration (exact for any
+//   locally affine motion);
+// - the cavity volume: the surface closed at its border (the base opening) by a fan from the
+//   centroid c of the border vertices, V = |sum_faces (a - c) . ((b - c) x (d - c))| / 6 (the fan
+//   triangles contribute nothing with apex c), evaluated at the moved vertices;
+// - the load: each face's area vector A n (n outward of the myocardium, i.e. into the cavity) is
+//   given to its nearest particle; a cavity pressure p then acts on particle i as the follower
+//   force - p J F^-T (N A)_i (Nanson), see sph::ElasticSolid::add_pressure_load.
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "cardio/surface_labels.hpp"
+#include "geometry/mesh.hpp"
+#include "libsph/core/kernels.hpp"
+#include "libsph/core/types.hpp"
+
+namespace cardio {
+
+using sph::Real;
+
+struct CavitySurface {
+  SurfaceLabel label = label_none;
+  std::vector<sph::Vec<3>> reference_vertices;
+  std::vector<std::array<std::uint32_t, 3>> faces;  ///< oriented outward of the myocardium
+  std::vector<std::uint32_t> border;                ///< vertices on the opening (empty: closed)
+  std::vector<std::size_t> stencil_offsets;         ///< per vertex into stencil_particle / weight
+  std::vector<sph::Index> stencil_particle;
+  std::vector<Real> stencil_weight;                 ///< normalised per vertex
+  std::vector<sph::Index> loaded_particles;         ///< particles carrying the faces' area
+  std::vector<sph::Vec<3>> area_normals;            ///< sum of A n of their faces (reference)
+  double reference_volume = 0;                      ///< [mm^3]
+  double area = 0;                                  ///< reference area of the faces
+
+  /// Vertices at the current configuration (x, F and X of the particles).
+  std::vector<sph::Vec<3>> moved_vertices(std::span<const sph::Vec<3>> x, std::span<const sph::Mat<3>> F,
+                                          std::span<const sph::Vec<3>> X) const;
+  /// Cavity volume at the current configuration.
+  double volume(std::span<const sph::Vec<3>> x, std::span<const sph::Mat<3>> F, std::span<const sph::Vec<3>> X) const;
+};
+
+/// Volume of the cavity bounded by `faces` of `vertices`, closed by a fan at its border (see above).
+double closed_cavity_volume(std::span<const sph::Vec<3>> vertices, std::span<const std::array<std::uint32_t, 3>> faces,
+                            std::span<const std::uint32_t> border);
+
+/// The LV and RV cavity surfaces present in the labelled particles (LV first). `positions` and
+/// `volumes` are the particles in the reference configuration, `labels` their surface labels,
+/// `spacing` the particle spacing; the vertex stencils use `kernel` with smoothing length h.
+/// Throws std::invalid_argument if a face is farther than 3 spacings from every labelled particle.
+std::vector<CavitySurface> cavity_surfaces(const geometry::TriangleMesh& mesh, std::span<const sph::Vec<3>> positions,
+                                           std::span<const Real> volumes, std::span<const std::int8_t> labels,
+                                           Real spacing, const sph::AnyKernel<3>& kernel, Real smoothing_length);
+
+}  // namespace cardio
