@@ -45,17 +45,34 @@ std::vector<sph::Vec<3>> CavitySurface::moved_vertices(std::span<const sph::Vec<
   return moved;
 }
 
+void CavitySurface::add_pressure_forces(Real pressure, std::span<const sph::Vec<3>> x, std::span<const sph::Mat<3>> F,
+                                        std::span<const sph::Vec<3>> X, std::span<sph::Vec<3>> force) const {
+  if (pressure == 0) return;
+  const auto moved = moved_vertices(x, F, X);
+  std::vector<sph::Vec<3>> vertex_force(moved.size(), sph::Vec<3>::Zero());
+  for (const auto& f : faces) {
+    const sph::Vec<3> load = -pressure / 6 * (moved[f[1]] - moved[f[0]]).cross(moved[f[2]] - moved[f[0]]);  // a third of -p a n_a
+    for (int k = 0; k < 3; ++k) vertex_force[f[k]] += load;
+  }
+  for (std::size_t v = 0; v < moved.size(); ++v)
+    for (std::size_t k = stencil_offsets[v]; k < stencil_offsets[v + 1]; ++k)
+      force[stencil_particle[k]] += stencil_weight[k] * vertex_force[v];
+}
+
 double CavitySurface::volume(std::span<const sph::Vec<3>> x, std::span<const sph::Mat<3>> F,
                              std::span<const sph::Vec<3>> X) const {
   const auto moved = moved_vertices(x, F, X);
   return closed_cavity_volume(moved, faces, border);
 }
 
-std::vector<CavitySurface> cavity_surfaces(const geometry::TriangleMesh& mesh, std::span<const sph::Vec<3>> positions,
+std::vector<CavitySurface> cavity_surfaces(const geometry::TriangleMesh& mesh, std::span<const SurfaceLabel> face_labels,
+                                           std::span<const sph::Vec<3>> positions,
                                            std::span<const Real> volumes, std::span<const std::int8_t> labels,
                                            Real spacing, const sph::AnyKernel<3>& kernel, Real smoothing_length) {
   const std::size_t n = positions.size();
   if (labels.size() != n || volumes.size() != n) throw std::invalid_argument("cavity surfaces: one label and volume per particle");
+  if (!face_labels.empty() && face_labels.size() != mesh.n_faces())
+    throw std::invalid_argument("cavity surfaces: one label per mesh face");
   std::vector<sph::Vec<3>> labelled_position;
   std::vector<sph::Index> labelled_index;
   for (std::size_t i = 0; i < n; ++i)
@@ -67,18 +84,24 @@ std::vector<CavitySurface> cavity_surfaces(const geometry::TriangleMesh& mesh, s
   const Real search = 3 * spacing;
   const sph::CellLinkedList<3> labelled_cells(labelled_position, search);
 
-  // Nearest labelled particle of every face centroid.
+  // Label of every face, and the nearest particle of that label to its centroid.
+  std::vector<SurfaceLabel> face_label(mesh.n_faces(), label_none);
   std::vector<sph::Index> nearest(mesh.n_faces());
   sph::parallel_for(mesh.n_faces(), [&](std::size_t f) {
     sph::Vec<3> c = sph::Vec<3>::Zero();
     for (int k = 0; k < 3; ++k) c += mesh.vertices[mesh.faces[f][k]].cast<Real>() / 3;
-    Real best = std::numeric_limits<Real>::infinity();
-    sph::Index best_index = static_cast<sph::Index>(-1);
+    const SurfaceLabel wanted = face_labels.empty() ? label_none : face_labels[f];
+    Real best = std::numeric_limits<Real>::infinity(), best_any = best;
+    sph::Index best_index = static_cast<sph::Index>(-1), best_any_index = best_index;
     labelled_cells.for_each_candidate(c, [&](std::size_t j) {
       const Real d = (labelled_position[j] - c).squaredNorm();
-      if (d < best) best = d, best_index = labelled_index[j];
+      if (d < best_any) best_any = d, best_any_index = labelled_index[j];
+      if (labels[labelled_index[j]] == wanted && d < best) best = d, best_index = labelled_index[j];
     });
+    if (best > search * search) best_index = best_any_index, best = best_any;  // no particle of the face's label near
     nearest[f] = best <= search * search ? best_index : static_cast<sph::Index>(-1);
+    face_label[f] = face_labels.empty() && nearest[f] != static_cast<sph::Index>(-1)
+                        ? static_cast<SurfaceLabel>(labels[nearest[f]]) : wanted;
   });
   for (std::size_t f = 0; f < mesh.n_faces(); ++f)
     if (nearest[f] == static_cast<sph::Index>(-1))
@@ -93,7 +116,7 @@ std::vector<CavitySurface> cavity_surfaces(const geometry::TriangleMesh& mesh, s
     std::map<std::uint32_t, std::uint32_t> vertex_of;  // mesh vertex -> surface vertex
     std::map<sph::Index, std::size_t> load_of;         // particle -> loaded entry
     for (std::size_t f = 0; f < mesh.n_faces(); ++f) {
-      if (labels[nearest[f]] != label) continue;
+      if (face_label[f] != label) continue;
       std::array<std::uint32_t, 3> face{};
       for (int k = 0; k < 3; ++k) {
         const auto [it, added] = vertex_of.emplace(mesh.faces[f][k], static_cast<std::uint32_t>(s.reference_vertices.size()));

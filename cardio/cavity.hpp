@@ -2,8 +2,9 @@
 // Cavity surfaces of a ventricular body: the LV and RV endocardia of the mesh, carried along with
 // the particles, for cavity volumes over time and cavity pressure loads.
 //
-// Each mesh face takes the label of the nearest labelled surface particle (so any labelling
-// method works: regions, geometric rule or separate surfaces). For each endocardial label:
+// Faces carry the labels of the mesh (regions or the geometric rule, cardio/surface_labels.hpp);
+// when the particles were labelled from separate surface meshes instead, each face takes the label
+// of its nearest labelled particle. For each endocardial label:
 // - the faces and their vertices; a vertex P moves with the tissue by the first-order reconstruction
 //     x(P) = sum_i w_i (x_i + F_i (P - X_i)) / sum_i w_i,   w_i = V_i W(|P - X_i|, h),
 //   over the particles within one support of P in the reference configuration (exact for any
@@ -11,9 +12,14 @@
 // - the cavity volume: the surface closed at its border (the base opening) by a fan from the
 //   centroid c of the border vertices, V = |sum_faces (a - c) . ((b - c) x (d - c))| / 6 (the fan
 //   triangles contribute nothing with apex c), evaluated at the moved vertices;
-// - the load: each face's area vector A n (n outward of the myocardium, i.e. into the cavity) is
-//   given to its nearest particle; a cavity pressure p then acts on particle i as the follower
-//   force - p J F^-T (N A)_i (Nanson), see sph::ElasticSolid::add_pressure_load.
+// - the load of a cavity pressure p: on each face of the moved surface the follower force
+//   - p a n_a (a n_a = (b - a) x (c - a) / 2 its current area vector, outward of the myocardium,
+//   i.e. into the cavity), a third to each vertex, passed to the particles with the weights that
+//   move the vertex (the transpose of the interpolation, so the load does the work p dV on the
+//   interpolated surface). Spreading the load over the stencils keeps it smooth where a load on
+//   single surface particles, through their own F, lets the surface layer buckle.
+// - for reference, each face's reference area vector is also summed on its nearest particle
+//   (loaded_particles, area_normals).
 
 #include <array>
 #include <cstdint>
@@ -46,6 +52,9 @@ struct CavitySurface {
   /// Vertices at the current configuration (x, F and X of the particles).
   std::vector<sph::Vec<3>> moved_vertices(std::span<const sph::Vec<3>> x, std::span<const sph::Mat<3>> F,
                                           std::span<const sph::Vec<3>> X) const;
+  /// Adds the forces of cavity pressure p on the particles to `force` (see above).
+  void add_pressure_forces(Real pressure, std::span<const sph::Vec<3>> x, std::span<const sph::Mat<3>> F,
+                           std::span<const sph::Vec<3>> X, std::span<sph::Vec<3>> force) const;
   /// Cavity volume at the current configuration.
   double volume(std::span<const sph::Vec<3>> x, std::span<const sph::Mat<3>> F, std::span<const sph::Vec<3>> X) const;
 };
@@ -54,11 +63,14 @@ struct CavitySurface {
 double closed_cavity_volume(std::span<const sph::Vec<3>> vertices, std::span<const std::array<std::uint32_t, 3>> faces,
                             std::span<const std::uint32_t> border);
 
-/// The LV and RV cavity surfaces present in the labelled particles (LV first). `positions` and
-/// `volumes` are the particles in the reference configuration, `labels` their surface labels,
-/// `spacing` the particle spacing; the vertex stencils use `kernel` with smoothing length h.
-/// Throws std::invalid_argument if a face is farther than 3 spacings from every labelled particle.
-std::vector<CavitySurface> cavity_surfaces(const geometry::TriangleMesh& mesh, std::span<const sph::Vec<3>> positions,
+/// The LV and RV cavity surfaces of the mesh (LV first). `face_labels` holds one label per face, or
+/// is empty to label each face by its nearest labelled particle. `positions` and `volumes` are the
+/// particles in the reference configuration, `labels` their surface labels, `spacing` the particle
+/// spacing; the vertex stencils use `kernel` with smoothing length h. Each face's area goes to the
+/// nearest particle of its label. Throws std::invalid_argument if a face is farther than 3
+/// spacings from every labelled particle.
+std::vector<CavitySurface> cavity_surfaces(const geometry::TriangleMesh& mesh, std::span<const SurfaceLabel> face_labels,
+                                           std::span<const sph::Vec<3>> positions,
                                            std::span<const Real> volumes, std::span<const std::int8_t> labels,
                                            Real spacing, const sph::AnyKernel<3>& kernel, Real smoothing_length);
 

@@ -1,7 +1,6 @@
 #include "cardio/electromechanics.hpp"
 
 #include <chrono>
-#include <limits>
 #include <cmath>
 #include <stdexcept>
 
@@ -56,10 +55,9 @@ void Electromechanics<Dim>::add_stages(sph::TimeStepper& stepper) {
                          last_conduction_update_ = t;
                        }
                        monodomain_.advance(t, dt);
+                       timed(own_.tension, [&] { tension_.advance(t, dt); });
                      },
                      false});
-  stepper.add_stage({"active tension", [] { return std::numeric_limits<Real>::infinity(); },
-                     [this](Real t, Real dt) { timed(own_.tension, [&] { tension_.advance(t, dt); }); }, false});
   stepper.add_stage({"mechanics", [this] { return solid_.stable_time_step(); },
                      [this](Real t, Real dt) {
                        timed(own_.mechanics, [&] {

@@ -61,7 +61,8 @@ class Electromechanics {
   /// its fibre field holds f0 (set before the first step).
   Electromechanics(Monodomain<Dim>& monodomain, ActiveTension<Dim>& tension, sph::ElasticSolid<Dim>& solid, Settings settings);
 
-  /// Adds the three stages to `stepper` (in the order above).
+  /// Adds the stages to `stepper`: electrophysiology with the active tension (steps 1-2 above), then
+  /// the sub-cycled mechanics (step 3).
   void add_stages(sph::TimeStepper& stepper);
   /// Reassembles the diffusion operator with D0 from the current F.
   void update_conduction();

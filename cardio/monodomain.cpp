@@ -17,6 +17,7 @@ typename sph::ScalarDiffusionSystem<Dim>::Settings diffusion_settings(const type
   d.correction = s.correction;
   d.integrator = s.diffusion_integrator;
   d.cfl = s.diffusion_cfl;
+  d.clip_negative_coefficients = s.clip_negative_coefficients;
   return d;
 }
 

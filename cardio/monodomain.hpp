@@ -51,6 +51,7 @@ class Monodomain {
     sph::DiffusionCorrection correction = sph::DiffusionCorrection::moment;
     sph::DiffusionIntegrator diffusion_integrator = sph::DiffusionIntegrator::forward_euler;
     Real diffusion_cfl = Real(0.9);                ///< fraction of the diffusion stability limit
+    bool clip_negative_coefficients = false;       ///< see sph::ScalarDiffusionSystem::Settings
     Real activation_threshold = 0;                 ///< V of the upstroke that marks activation [mV]
     std::vector<StimulusRegion> stimuli;
     bool write_states = false;                     ///< write every cell state variable to output

@@ -1,5 +1,6 @@
 #include "libsph/diffusion/diffusion_system.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -28,9 +29,7 @@ ScalarDiffusionSystem<Dim>::ScalarDiffusionSystem(ParticleSet<Dim>& particles, c
     const auto B = particles_.field(handle);
     correction_matrix_.assign(B.begin(), B.end());
   }
-  pair_coefficient_ = diffusion_pair_coefficients<Dim>(relation_, particles_.volume, settings_.diffusion_tensor,
-                                                       settings_.correction, correction_matrix_);
-  step_limit_ = diffusion_time_step_limit<Dim>(relation_, pair_coefficient_);
+  assemble();
   rate_.resize(n);
   if (settings_.integrator == DiffusionIntegrator::heun) {
     predicted_.resize(n);
@@ -43,8 +42,15 @@ void ScalarDiffusionSystem<Dim>::set_diffusion_tensor(std::vector<Mat<Dim>> diff
   if (diffusion_tensor.size() != 1 && diffusion_tensor.size() != particles_.n_particles())
     throw std::invalid_argument("diffusion on '" + particles_.name() + "': need one diffusion tensor or one per particle");
   settings_.diffusion_tensor = std::move(diffusion_tensor);
+  assemble();
+}
+
+template <int Dim>
+void ScalarDiffusionSystem<Dim>::assemble() {
   pair_coefficient_ = diffusion_pair_coefficients<Dim>(relation_, particles_.volume, settings_.diffusion_tensor,
                                                        settings_.correction, correction_matrix_);
+  if (settings_.clip_negative_coefficients)
+    parallel_for(pair_coefficient_.size(), [&](std::size_t k) { pair_coefficient_[k] = std::max(pair_coefficient_[k], Real(0)); });
   step_limit_ = diffusion_time_step_limit<Dim>(relation_, pair_coefficient_);
 }
 

@@ -28,6 +28,11 @@ class ScalarDiffusionSystem {
     DiffusionCorrection correction = DiffusionCorrection::moment;
     DiffusionIntegrator integrator = DiffusionIntegrator::heun;
     Real cfl = Real(0.5);  ///< fraction of the stability limit, in (0, 1]
+    /// Set negative pair coefficients to zero. For a strongly anisotropic D (D_l > 3 D_t in 3D) some
+    /// pairs get a_ij < 0 (anti-diffusion along them); on irregular particles or a distorted
+    /// pulled-back tensor the operator can then have growing modes. Clipping makes it an M-matrix
+    /// (monotone, no new extrema) at the cost of a larger effective cross-fibre diffusion.
+    bool clip_negative_coefficients = false;
   };
 
   /// The relation must be the inner relation of `particles` and outlive the system.
@@ -48,6 +53,8 @@ class ScalarDiffusionSystem {
   const InnerRelation<Dim>& relation_;
   Settings settings_;
   FieldHandle<Real> value_;
+  void assemble();
+
   std::vector<Mat<Dim>> correction_matrix_;  // gradient correction only
   std::vector<Real> pair_coefficient_;
   Real step_limit_ = 0;

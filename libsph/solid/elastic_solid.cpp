@@ -26,6 +26,8 @@ ElasticSolid<Dim>::ElasticSolid(ParticleSet<Dim>& particles, const InnerRelation
 
   const Real wave_modulus = std::visit([](const auto& m) { return m.wave_modulus(); }, settings_.material);
   sound_speed_ = std::sqrt(wave_modulus / settings_.density);
+  current_sound_speed_ = sound_speed_;
+  if (settings_.stiffness_update_interval < 1) throw std::invalid_argument(body + ": stiffness update interval must be >= 1");
   hourglass_modulus_ = young_modulus_estimate<Dim>(settings_.material);
 
   const std::size_t n = particles_.n_particles();
@@ -101,6 +103,13 @@ void ElasticSolid<Dim>::add_traction_load(std::vector<Index> particles, std::vec
 }
 
 template <int Dim>
+void ElasticSolid<Dim>::add_force_load(ForceLoad load) {
+  if (!load) throw std::invalid_argument("solid: empty force load");
+  force_loads_.push_back(std::move(load));
+  load_force_.resize(particles_.n_particles());
+}
+
+template <int Dim>
 void ElasticSolid<Dim>::compute_deformation_gradient() {
   const auto& x = particles_.position;
   const auto& V = particles_.volume;
@@ -155,6 +164,32 @@ void ElasticSolid<Dim>::compute_stress() {
 }
 
 template <int Dim>
+void ElasticSolid<Dim>::update_current_sound_speed() {
+  const auto F = particles_.field(deformation_gradient_);
+  const bool anisotropic = fiber_.valid();
+  const Real largest = std::visit(
+      [&](const auto& law) {
+        return parallel_max(F.size(), Real(0), [&](std::size_t i) {
+          const Vec<Dim> f = anisotropic ? particles_.field(fiber_)[i] : Vec<Dim>::Zero();
+          const Vec<Dim> s = anisotropic ? particles_.field(sheet_)[i] : Vec<Dim>::Zero();
+          const Mat<Dim> P = first_piola<Dim>(law, F[i], f, s);
+          const Real delta = Real(1e-6);
+          Real modulus = 0;
+          for (int d = 0; d <= Dim; ++d) {
+            const Vec<Dim> e = d < Dim ? Vec<Dim>::Unit(d) : f;
+            if (d == Dim && !anisotropic) break;
+            const Mat<Dim> E = e * e.transpose();
+            const Mat<Dim> dP = first_piola<Dim>(law, Mat<Dim>(F[i] + delta * E), f, s) - P;
+            modulus = std::max(modulus, (dP.cwiseProduct(E)).sum() / delta);
+          }
+          return std::isfinite(modulus) ? modulus : Real(0);
+        });
+      },
+      settings_.material);
+  current_sound_speed_ = std::max(sound_speed_, std::sqrt(largest / settings_.density));
+}
+
+template <int Dim>
 void ElasticSolid<Dim>::compute_acceleration(Real time) {
   const auto& x = particles_.position;
   const auto& V = particles_.volume;
@@ -189,6 +224,11 @@ void ElasticSolid<Dim>::compute_acceleration(Real time) {
       const Mat<Dim> cofactor = F[i].determinant() * F[i].inverse().transpose();
       a[i] -= p * (cofactor * load.area_normal[k]) * (inverse_density / V[i]);
     }
+  }
+  if (!force_loads_.empty()) {
+    std::fill(load_force_.begin(), load_force_.end(), Vec<Dim>::Zero());
+    for (const auto& load : force_loads_) load(time, load_force_);
+    parallel_for(load_force_.size(), [&](std::size_t i) { a[i] += load_force_[i] * (inverse_density / V[i]); });
   }
   for (const auto& load : traction_loads_) {
     const Vec<Dim> t = load.traction(time);
@@ -252,6 +292,7 @@ void ElasticSolid<Dim>::advance(Real time, Real dt) {
     fail(bad, time + half, "deformation gradient", std::isfinite(J) ? "has J = " + std::to_string(J) + " <= 0 (inverted)" : "is not finite");
   }
   compute_stress();
+  if (steps_++ % static_cast<std::size_t>(settings_.stiffness_update_interval) == 0) update_current_sound_speed();
   compute_acceleration(time + half);
 
   const Real damping = 1 / (1 + settings_.damping_rate * dt);
@@ -271,7 +312,7 @@ Real ElasticSolid<Dim>::stable_time_step() const {
   const auto v = particles_.field(velocity_);
   const Real max_speed = parallel_max(v.size(), Real(0), [&](std::size_t i) { return v[i].norm(); });
   const Real h = relation_.smoothing_length;
-  Real dt = h / (sound_speed_ + max_speed);
+  Real dt = h / (current_sound_speed_ + max_speed);
   if (max_acceleration_ > 0) dt = std::min(dt, std::sqrt(h / max_acceleration_));
   return settings_.cfl * dt;
 }

@@ -18,7 +18,12 @@
 // Time integration: position-based Verlet (Zhang, Rezavand & Hu 2021, JCP 429:110028, sec. 3.3):
 //   x += dt/2 v;  F(x), P(F), a;  v = (v + dt a) / (1 + c dt);  x += dt/2 v.
 // The damping is implicit in v, so it is stable for any rate. Stable step (acoustic, sec. 3.3 there):
-//   dt = cfl min( h / (c0 + max|v|), sqrt(h / max|a|) ),  c0 = sqrt(M / rho0), M the P-wave modulus.
+//   dt = cfl min( h / (c + max|v|), sqrt(h / max|a|) ),  c = sqrt(M / rho0),
+// with M the larger of the small-strain P-wave modulus of the law and the largest current tangent
+// modulus over the particles, M_i = max_e (dP/dF at F_i in the direction e (x) e) : (e (x) e) over the
+// axes e = x, y, z and the fibre, by finite differences every `stiffness_update_interval` steps: the
+// exponential laws stiffen many times over at large strain, and a step sized by the small-strain
+// modulus alone then loses stability (measured on the inflated LV of Land et al. 2015).
 //
 // Active stress (Nash & Panfilov 2004, Prog. Biophys. Mol. Biol. 85:501), with Settings::active_stress:
 //   P = P_passive(F) + T_a F f0 (x) f0,   i.e. S = S_passive + T_a f0 (x) f0,
@@ -36,6 +41,7 @@
 // the particle, its position, the time and the quantity.
 
 #include <functional>
+#include <span>
 #include <vector>
 
 #include "libsph/core/neighbour_relation.hpp"
@@ -55,6 +61,7 @@ class ElasticSolid {
     Vec<Dim> body_force = Vec<Dim>::Zero();  ///< g [length/time^2]
     Real cfl = Real(0.6);                    ///< fraction of the acoustic step, in (0, 1]
     Real fixed_time_step = 0;                ///< > 0 replaces the stable step (no stability guarantee)
+    int stiffness_update_interval = 10;      ///< steps between updates of the current tangent modulus
     Vec<Dim> fiber = Vec<Dim>::UnitX();      ///< initial (uniform) fibre direction, anisotropic laws
     Vec<Dim> sheet = Vec<Dim>::UnitY();      ///< initial (uniform) sheet direction
     bool active_stress = false;              ///< add T_a f0 (x) f0 to S (anisotropic laws only)
@@ -84,6 +91,10 @@ class ElasticSolid {
   /// reference configuration; p > 0 pushes into the body.
   void add_pressure_load(std::vector<Index> particles, std::vector<Vec<Dim>> area_normal,
                          std::function<Real(Real time)> pressure);
+  /// A force computed from the current state: load(time, force) adds its force on each particle to
+  /// `force` (zeroed before; one entry per particle) at the mid-step positions, after F is known.
+  using ForceLoad = std::function<void(Real time, std::span<Vec<Dim>> force)>;
+  void add_force_load(ForceLoad load);
   /// Dead traction (force per reference area, fixed direction) on surface particles of areas A_k.
   void add_traction_load(std::vector<Index> particles, std::vector<Real> area,
                          std::function<Vec<Dim>(Real time)> traction);
@@ -118,7 +129,10 @@ class ElasticSolid {
   FieldHandle<Real> active_tension_field() const { return active_tension_; }
   /// Cauchy stress of particle i from its current F (after update_output_fields or a step).
   Mat<Dim> cauchy_stress_of(std::size_t i) const;
+  /// Small-strain sound speed c0 = sqrt(M / rho0) of the law.
   Real sound_speed() const { return sound_speed_; }
+  /// Sound speed from the current tangent modulus (>= sound_speed()).
+  Real current_sound_speed() const { return current_sound_speed_; }
   const Settings& settings() const { return settings_; }
   ParticleSet<Dim>& particles() { return particles_; }
 
@@ -143,6 +157,7 @@ class ElasticSolid {
   /// First particle with a non-finite F or J <= 0, or n.
   std::size_t first_invalid_deformation() const;
   void compute_stress();
+  void update_current_sound_speed();
   void compute_acceleration(Real time);
   void apply_position_constraints(Real time);
   void apply_velocity_constraints(Real time);
@@ -151,7 +166,8 @@ class ElasticSolid {
   ParticleSet<Dim>& particles_;
   const InnerRelation<Dim>& relation_;
   Settings settings_;
-  Real sound_speed_ = 0, hourglass_modulus_ = 0;
+  Real sound_speed_ = 0, current_sound_speed_ = 0, hourglass_modulus_ = 0;
+  std::size_t steps_ = 0;
   FieldHandle<Vec<Dim>> reference_position_, velocity_, acceleration_, displacement_, fiber_, sheet_;
   FieldHandle<Mat<Dim>> deformation_gradient_, correction_matrix_, stress_correction_;
   FieldHandle<Real> jacobian_, von_mises_, fiber_stretch_, active_tension_;
@@ -161,6 +177,8 @@ class ElasticSolid {
   std::vector<PrescribedMotion> prescribed_;
   std::vector<PressureLoad> pressure_loads_;
   std::vector<TractionLoad> traction_loads_;
+  std::vector<ForceLoad> force_loads_;
+  std::vector<Vec<Dim>> load_force_;  // scratch of the force loads
 
   Real max_acceleration_ = 0;
   std::vector<Vec<Dim>> previous_position_, previous_velocity_;  // the last good state

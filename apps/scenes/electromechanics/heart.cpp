@@ -49,13 +49,15 @@ struct HeartParameters {
   std::string stimulus_site = "lv-apex";
   std::string stimulus_point = "0,0,0";
   long beats = 1;
-  double cycle_length = 600;
+  double cycle_length = 800;
   double end_time = 0;  ///< 0: beats x cycle length
   double ep_time_step = 0.1;
+  std::string diffusion_correction = "moment";
+  bool clip_negative_coefficients = true;
   bool deformed_conduction = true;
   double conduction_update_interval = 1;
   // Active tension.
-  double k_a = 0.001;
+  double k_a = 0.01;
   double tension_threshold = 1;  ///< V_th - V_r [mV]
   bool tension_allow_negative = false;
   // Mechanics.
@@ -74,7 +76,7 @@ struct HeartParameters {
 double preset_spacing(const std::string& preset) {
   if (preset == "coarse") return 3.0;
   if (preset == "fine") return 1.0;
-  return 1.5;
+  return 2.0;
 }
 
 Vec3 parse_point(const std::string& key, const std::string& text) {
@@ -131,7 +133,7 @@ class HeartScene final : public Scene {
   void declare(sph::Parameters& p) override {
     p_.geometry.declare(p);
     p.add_choice("preset", p_.preset, {"coarse", "default", "fine"},
-                 "resolution preset when dp = 0: coarse 3 mm, default 1.5 mm, fine 1 mm (research resolution)");
+                 "resolution preset when dp = 0: coarse 3 mm, default 2 mm, fine 1 mm (research resolution)");
     p.add_choice("cell_model", p_.cell_model, {"aliev_panfilov", "ten_tusscher_panfilov"},
                  "cell model (Aliev-Panfilov with the Nash-Panfilov parameters, or ten Tusscher-Panfilov 2006 epicardial)");
     p.add("diffusivity_fibre", p_.diffusivity_fibre, "mm^2/ms",
@@ -150,11 +152,15 @@ class HeartScene final : public Scene {
     p.add("end_time", p_.end_time, "ms", "simulated time (0: beats x cycle_length)", sph::Range::non_negative());
     p.add("ep_time_step", p_.ep_time_step, "ms",
           "splitting step of the monodomain, the coupling step of the fields", sph::Range::positive());
+    p.add_choice("diffusion_correction", p_.diffusion_correction, {"none", "gradient", "moment"},
+                 "correction of the anisotropic diffusion operator (libsph/diffusion/diffusion_operator.hpp)");
+    p.add("clip_negative_coefficients", p_.clip_negative_coefficients,
+          "clip negative pair coefficients of the anisotropic diffusion (monotone and stable; widens cross-fibre conduction)");
     p.add("deformed_conduction", p_.deformed_conduction,
           "conduction follows the deformed fibres (D pulled back through F); false: D of the reference configuration");
     p.add("conduction_update_interval", p_.conduction_update_interval, "ms", "time between updates of the pulled-back D",
           sph::Range::positive());
-    p.add("k_a", p_.k_a, "kPa/mV", "active tension per mV above rest (Nash-Panfilov k_a; 0.001 = 100 Pa per unit of u)",
+    p.add("k_a", p_.k_a, "kPa/mV", "active tension per mV above rest (Nash-Panfilov k_a; 0.001 = the 100 Pa per unit of u of the SPHinXsys heart)",
           sph::Range::non_negative());
     p.add("tension_threshold", p_.tension_threshold, "mV", "V_th - V_r of the activation function eps(V)", sph::Range::any());
     p.add("tension_allow_negative", p_.tension_allow_negative, "let the active tension fall below zero");
@@ -245,6 +251,10 @@ void HeartScene::run(RunContext& ctx) {
   if (ttp) ep.cell_model = sph::TenTusscherPanfilov2006{};
   else ep.cell_model = sph::AlievPanfilov::nash_panfilov_2004();
   ep.time_step = Real(p_.ep_time_step);
+  ep.correction = p_.diffusion_correction == "none"       ? sph::DiffusionCorrection::none
+                  : p_.diffusion_correction == "gradient" ? sph::DiffusionCorrection::gradient
+                                                          : sph::DiffusionCorrection::moment;
+  ep.clip_negative_coefficients = p_.clip_negative_coefficients;
   ep.diffusion_tensor.resize(n);
   {
     const auto f = body.field(solid.fiber_field());
@@ -299,7 +309,7 @@ void HeartScene::run(RunContext& ctx) {
   // Cavities and their pressure loads.
   const auto mesh = read_geometry_mesh(gs);
   std::vector<Real> volumes(body.volume.begin(), body.volume.end());
-  const auto cavities = cardio::cavity_surfaces(mesh, body.position, volumes, g.labels, dp, kernel, h);
+  const auto cavities = cardio::cavity_surfaces(mesh, cavity_face_labels(mesh, g), body.position, volumes, g.labels, dp, kernel, h);
   std::vector<CavityPressure> pressures(cavities.size());
   for (std::size_t c = 0; c < cavities.size(); ++c) {
     auto& cp = pressures[c];
@@ -309,11 +319,14 @@ void HeartScene::run(RunContext& ctx) {
     cp.ramp = p_.pressure_ramp_time;
     cp.resistance = p_.windkessel_resistance;
     cp.compliance = p_.windkessel_compliance;
-    if (cp.mode != "none")
-      solid.add_pressure_load(cavities[c].loaded_particles, cavities[c].area_normals,
-                              [&cp](Real t) { return Real(cp.at(double(t))); });
   }
   const auto X = body.field(solid.reference_position_field());
+  for (std::size_t c = 0; c < cavities.size(); ++c)
+    if (p_.cavity_pressure != "none")
+      solid.add_force_load([&, c](Real t, std::span<Vec3> force) {
+        cavities[c].add_pressure_forces(Real(pressures[c].at(double(t))), body.position,
+                                        body.field(solid.deformation_gradient_field()), X, force);
+      });
   auto cavity_volume = [&](std::size_t c) {
     return cavities[c].volume(body.position, body.field(solid.deformation_gradient_field()), X);
   };

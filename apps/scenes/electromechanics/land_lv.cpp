@@ -124,20 +124,22 @@ class LandLvScene final : public Scene {
 
     const auto mesh = read_geometry_mesh(gs);
     std::vector<Real> volumes(body.volume.begin(), body.volume.end());
-    const auto cavities = cardio::cavity_surfaces(mesh, body.position, volumes, g.labels, dp, kernel, h);
+    const auto cavities = cardio::cavity_surfaces(mesh, cavity_face_labels(mesh, g), body.position, volumes, g.labels, dp, kernel, h);
     if (cavities.empty() || cavities[0].label != cardio::label_lv_endo)
       throw std::invalid_argument("land-lv: the mesh has no LV endocardium");
     const auto& lv = cavities[0];
     const double ramp = p_.ramp_time;
     auto ramp_factor = [ramp](double t) { return ramp > 0 ? std::min(1.0, t / ramp) : 1.0; };
-    solid.add_pressure_load(lv.loaded_particles, lv.area_normals,
-                            [=](Real t) { return Real(pressure * ramp_factor(double(t))); });
+    const auto X = body.field(solid.reference_position_field());
+    solid.add_force_load([&](Real t, std::span<Vec3> force) {
+      lv.add_pressure_forces(Real(pressure * ramp_factor(double(t))), body.position,
+                             body.field(solid.deformation_gradient_field()), X, force);
+    });
     auto T = body.field(solid.active_tension_field());
     auto set_tension = [&](double t) { std::fill(T.begin(), T.end(), Real(tension * ramp_factor(t))); };
 
     const Vec3 endo_apex(0, 0, -17), epi_apex(0, 0, -20), mid_apex(0, 0, Real(-18.5));
     sph::TimeSeriesCsv observers(ctx.output_dir / "observers.csv", {"time", "endo_z", "epi_z", "midwall_z", "lv_volume"});
-    const auto X = body.field(solid.reference_position_field());
     double endo_z_at_nine_tenths = std::nan("");
     SolidRunPlan plan;
     plan.scene = "land-lv";

@@ -24,7 +24,7 @@ using Vec3 = sph::Vec<3>;
 struct MyocardiumCubeParameters {
   long resolution = 25;        ///< particles across the unit cube
   double end_time = 3;
-  double max_tension = 15;     ///< T_max at x = L
+  double max_tension = 5;      ///< T_max at x = L
   double ramp_time = 1;
   double holder_length = 0.16;
   double a = 0.059, b = 8.023;

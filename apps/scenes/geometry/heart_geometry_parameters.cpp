@@ -104,6 +104,11 @@ sph::ParticleSet<3> make_particle_set(const cardio::HeartGeometry& geometry, con
   return sph::ParticleSet<3>(name, std::move(x), std::move(v));
 }
 
+std::vector<cardio::SurfaceLabel> cavity_face_labels(const geometry::TriangleMesh& mesh, const cardio::HeartGeometry& geometry) {
+  if (geometry.label_method == "surfaces") return {};
+  return cardio::label_faces(mesh).face;
+}
+
 geometry::TriangleMesh read_geometry_mesh(const cardio::HeartGeometrySettings& settings) {
   auto mesh = geometry::read_mesh(settings.mesh, settings.scale);
   return settings.repair ? geometry::repair_mesh(mesh) : mesh;

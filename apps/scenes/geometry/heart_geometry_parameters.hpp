@@ -37,6 +37,10 @@ struct HeartGeometryParameters {
 /// The particles of a prepared geometry (positions and volumes) as a particle set.
 sph::ParticleSet<3> make_particle_set(const cardio::HeartGeometry& geometry, const std::string& name);
 
+/// Face labels of the mesh for cardio::cavity_surfaces: the mesh's own (regions or the geometric
+/// rule), or none (nearest labelled particle) when the geometry was labelled by separate surfaces.
+std::vector<cardio::SurfaceLabel> cavity_face_labels(const geometry::TriangleMesh& mesh, const cardio::HeartGeometry& geometry);
+
 /// The mesh of the geometry settings, read (and repaired) the way the geometry stage reads it.
 geometry::TriangleMesh read_geometry_mesh(const cardio::HeartGeometrySettings& settings);
 

@@ -1,0 +1,127 @@
+// Electromechanics scenes at coarse resolution: the active myocardium cube (equilibrium of the held
+// state and convergence over three resolutions), Land et al. 2015 problem 2 (apex positions against
+// the published ones), the heart on the shipped biventricular mesh and on the third-party heart of
+// ../shared/meshes, stiff and extreme cases, and three paced beats.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+
+#include "apps/scenes/electromechanics/em_scenes.hpp"
+#include "libsph/core/numerical_failure.hpp"
+#include "libsph/io/parameters.hpp"
+#include "run_scene_for_test.hpp"
+
+namespace {
+
+sph::RunReport run(std::unique_ptr<cardiosph::Scene> scene, const std::vector<std::string>& assignments,
+                   const std::string& name) {
+  sph::Parameters parameters;
+  scene->declare(parameters);
+  if (parameters.has("cache")) parameters.set("cache", "none", "test");
+  for (const auto& a : assignments) parameters.set_assignment(a, "test");
+  parameters.check();
+  return test::run_scene(*scene, name);
+}
+
+double at(const sph::RunReport& r, const std::string& key) { return r.results.at(key).get<double>(); }
+
+TEST(ElectromechanicsValidation, MyocardiumCubeSettlesInEquilibriumAndConverges) {
+  std::vector<double> ux;
+  for (const long resolution : {8L, 12L, 16L}) {
+    const auto r = run(cardiosph::make_myocardium_cube_scene(), {"resolution=" + std::to_string(resolution)},
+                       "cube" + std::to_string(resolution));
+    const auto u = r.results.at("corner_displacement");
+    ux.push_back(u[0].get<double>());
+    std::cout << "cube " << resolution << " across: corner u = (" << u[0] << ", " << u[1] << ", " << u[2]
+              << "), equilibrium residual " << at(r, "equilibrium_residual") << ", J in [" << at(r, "min_jacobian") << ", "
+              << at(r, "max_jacobian") << "], " << r.wall_time_s << " s\n";
+    // Bound: the net nodal force of the held state is below 1 % of the active-stress force.
+    EXPECT_LT(at(r, "equilibrium_residual"), 0.01);
+    EXPECT_LT(at(r, "corner_symmetry_difference"), 1e-6);
+    EXPECT_LT(u[0].get<double>(), -0.1);  // the tension shortens the cube along the fibre
+  }
+  // Convergence: successive differences shrink.
+  const double d1 = std::abs(ux[1] - ux[0]), d2 = std::abs(ux[2] - ux[1]);
+  std::cout << "corner ux differences " << d1 << " (8 -> 12), " << d2 << " (12 -> 16)\n";
+  EXPECT_LT(d2, d1);
+}
+
+TEST(ElectromechanicsValidation, LandProblemTwoApexAtTheDefaultResolution) {
+  const auto r = run(cardiosph::make_land_lv_scene(), {}, "land_lv");
+  const double endo = at(r, "apex_z_endo_mm"), epi = at(r, "apex_z_epi_mm"), mid = at(r, "apex_z_midwall_mm");
+  std::cout << "land-lv problem 2: apex z endo " << endo << " (published -26.6, -26.9 to -26.4), epi " << epi
+            << " (-28.3, -28.5 to -28.1), mid-wall " << mid << " (-27.3, -27.6 to -27.1); J in [" << at(r, "min_jacobian")
+            << ", " << at(r, "max_jacobian") << "], " << r.wall_time_s << " s\n";
+  // Bound: inside the spread of the published codes (Land et al. 2015, figs. 6-7).
+  EXPECT_GE(endo, -26.9);
+  EXPECT_LE(endo, -26.4);
+  EXPECT_GE(epi, -28.5);
+  EXPECT_LE(epi, -28.1);
+  EXPECT_GE(mid, -27.6);
+  EXPECT_LE(mid, -27.1);
+}
+
+void expect_sound_heart(const sph::RunReport& r) {
+  EXPECT_EQ(r.status, "completed");
+  EXPECT_GT(at(r, "min_jacobian"), 0.9);
+  EXPECT_LT(at(r, "max_jacobian"), 1.1);
+  EXPECT_TRUE(std::isfinite(at(r, "lv_ejection_fraction")));
+}
+
+TEST(ElectromechanicsValidation, HeartOnTheThirdPartyMeshActivatesAndContracts) {
+  const auto r = run(cardiosph::make_heart_scene(),
+                     {std::string("mesh=") + CARDIOSPH_SHARED_MESHES + "/biventricular_heart.stl", "dp=3",
+                      "relaxation_steps=20", "end_time=120", "output_interval=0"},
+                     "heart_shared");
+  std::cout << "shared heart dp 3: " << r.particles.at("heart") << " particles, activated " << at(r, "activated_fraction")
+            << ", LV EF " << at(r, "lv_ejection_fraction") << ", RV EF " << at(r, "rv_ejection_fraction") << ", "
+            << r.wall_time_s << " s\n";
+  expect_sound_heart(r);
+  EXPECT_GT(at(r, "activated_fraction"), 0.3);
+  EXPECT_GT(at(r, "lv_ejection_fraction"), 0.0);
+}
+
+TEST(ElectromechanicsValidation, ThreePacedBeatsReturnToRest) {
+  const auto r = run(cardiosph::make_heart_scene(), {"preset=coarse", "beats=3", "output_interval=0"}, "heart_beats");
+  expect_sound_heart(r);
+  const auto& end = r.results.at("end_of_beat");
+  const double reference = at(r, "lv_reference_volume_mm3"), peak = at(r, "peak_active_tension_kPa");
+  std::cout << "three beats: end-of-beat LV volume " << end.at("lv_volume_mm3") << " (reference " << reference
+            << "), max displacement " << end.at("max_displacement_mm") << ", max T_a " << end.at("max_active_tension_kPa")
+            << " (peak " << peak << "), mean V " << end.at("mean_potential_mV") << ", LV EF " << at(r, "lv_ejection_fraction")
+            << ", " << r.wall_time_s << " s\n";
+  ASSERT_EQ(end.at("lv_volume_mm3").size(), 3u);
+  for (std::size_t beat = 0; beat < 3; ++beat) {
+    // Bounds: back within 0.5 % of the reference cavity volume, tension below 10 % of its peak,
+    // mean potential within 2 mV of rest (-80 mV), each beat alike (no drift).
+    EXPECT_LT(std::abs(end.at("lv_volume_mm3")[beat].get<double>() - reference), 0.005 * reference) << "beat " << beat;
+    EXPECT_LT(end.at("max_active_tension_kPa")[beat].get<double>(), 0.1 * peak) << "beat " << beat;
+    EXPECT_LT(std::abs(end.at("mean_potential_mV")[beat].get<double>() + 80), 2.0) << "beat " << beat;
+  }
+}
+
+// Strong activation (T_a x5), a very stiff bulk modulus and the coarse resolution: the run either
+// completes with J > 0 or stops with the numerical-failure diagnostic, never with NaN results.
+TEST(ElectromechanicsValidation, StiffAndExtremeHeartEitherCompletesOrStopsWithADiagnostic) {
+  const std::vector<std::vector<std::string>> cases{
+      {"preset=coarse", "k_a=0.05", "end_time=200", "output_interval=0"},
+      {"preset=coarse", "bulk_modulus=10000", "end_time=60", "output_interval=0"},
+  };
+  for (const auto& c : cases) {
+    try {
+      const auto r = run(cardiosph::make_heart_scene(), c, "heart_extreme");
+      std::cout << c[1] << ": completed, J in [" << at(r, "min_jacobian") << ", " << at(r, "max_jacobian") << "], LV EF "
+                << at(r, "lv_ejection_fraction") << ", " << r.wall_time_s << " s\n";
+      EXPECT_GT(at(r, "min_jacobian"), 0);
+      EXPECT_TRUE(std::isfinite(at(r, "lv_ejection_fraction")));
+      EXPECT_TRUE(std::isfinite(at(r, "peak_kinetic_energy")));
+    } catch (const sph::NumericalFailure& failure) {
+      std::cout << c[1] << ": stopped: " << failure.what() << '\n';
+      EXPECT_NE(std::string(failure.what()).find("numerical failure"), std::string::npos);
+    }
+  }
+}
+
+}  // namespace
