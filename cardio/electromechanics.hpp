@@ -50,7 +50,7 @@ class Electromechanics {
     Real longitudinal_diffusivity = 0;   ///< D_l along the fibre [mm^2/ms]
     Real transverse_diffusivity = 0;     ///< D_t across it
     bool deformed_conduction = true;     ///< pull the conduction tensor back through F (else D in the reference)
-    Real conduction_update_interval = 1; ///< [ms] between reassemblies of the diffusion operator
+    Real conduction_update_interval = 2; ///< [ms] between reassemblies of the diffusion operator
   };
   /// Seconds spent in each part.
   struct Timings {

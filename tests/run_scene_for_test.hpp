@@ -1,6 +1,7 @@
 #pragma once
 // Runs a scene the way the application does (check, then run) in a fresh temporary folder, quietly,
 // removes the folder and returns the run report.
+#include <chrono>
 #include <filesystem>
 #include <string>
 
@@ -16,7 +17,9 @@ inline sph::RunReport run_scene(cardiosph::Scene& scene, const std::string& name
   fs::create_directories(ctx.output_dir);
   ctx.quiet = true;
   scene.check();
+  const auto start = std::chrono::steady_clock::now();
   scene.run(ctx);
+  ctx.report.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   fs::remove_all(ctx.output_dir);
   return ctx.report;
 }

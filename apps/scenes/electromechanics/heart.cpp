@@ -55,7 +55,7 @@ struct HeartParameters {
   std::string diffusion_correction = "moment";
   bool clip_negative_coefficients = true;
   bool deformed_conduction = true;
-  double conduction_update_interval = 1;
+  double conduction_update_interval = 2;
   // Active tension.
   double k_a = 0.01;
   double tension_threshold = 1;  ///< V_th - V_r [mV]
