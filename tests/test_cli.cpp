@@ -227,4 +227,20 @@ TEST_F(Cli, ParticlesOfABoxWithUniformFibres) {
   EXPECT_FALSE(report["results"].contains("fiber_angle_mad_deg"));
 }
 
+// --- heart: bad input exits 2 naming the problem, with nothing written ---------------------------
+
+TEST_F(Cli, HeartRejectsAMissingMesh) {
+  expect_rejected({"heart", (folder_ / "nowhere.stl").string()}, "no such file");
+}
+TEST_F(Cli, HeartRejectsAnUnknownPreset) { expect_rejected({"heart", "--preset", "ultra"}, "preset"); }
+TEST_F(Cli, HeartRejectsAMalformedStimulusPoint) {
+  expect_rejected({"heart", "--set", "stimulus_site=point", "--set", "stimulus_point=1,2"}, "stimulus_point");
+}
+TEST_F(Cli, HeartRejectsAMeshWithoutVentricles) {
+  // A closed box: no cavity, so no endocardium to stimulate or to measure.
+  const fs::path mesh = write("box.stl", ascii_stl(box_triangles(0, 10)));
+  expect_rejected({"heart", mesh.string(), "--dp", "2", "--set", "cache=none", "--set", "relaxation_steps=0"}, "no endocardium");
+}
+
 }  // namespace
+
