@@ -23,6 +23,7 @@
 #include <sstream>
 
 #include "apps/scenes/electromechanics/em_scenes.hpp"
+#include "apps/scenes/electromechanics/em_setup.hpp"
 #include "apps/scenes/geometry/heart_geometry_parameters.hpp"
 #include "apps/scenes/solid/solid_run.hpp"
 #include "cardio/cavity.hpp"
@@ -229,19 +230,7 @@ void HeartScene::run(RunContext& ctx) {
   solid_settings.active_stress = true;
   apply_solid_numerics<3>(p_.numerics, solid_settings);
   sph::ElasticSolid<3> solid(body, relation, solid_settings);
-  {
-    auto f = body.field(solid.fiber_field());
-    auto s = body.field(solid.sheet_field());
-    for (std::size_t i = 0; i < n; ++i) {
-      f[i] = g.fibres.fibre[i].cast<Real>().normalized();
-      s[i] = g.fibres.sheet[i].cast<Real>().normalized();
-    }
-  }
-  std::vector<sph::Index> base;
-  for (std::size_t i = 0; i < n; ++i)
-    if (g.labels[i] == cardio::label_base) base.push_back(static_cast<sph::Index>(i));
-  if (base.empty()) throw std::invalid_argument("heart: no particle is labelled base, so the base cannot be fixed");
-  solid.clamp(base);
+  const auto base = attach_heart_geometry(solid, g, "heart");
 
   // Electrophysiology.
   const bool ttp = p_.cell_model == "ten_tusscher_panfilov";

@@ -19,6 +19,7 @@
 #include <iostream>
 
 #include "apps/scenes/electromechanics/em_scenes.hpp"
+#include "apps/scenes/electromechanics/em_setup.hpp"
 #include "apps/scenes/geometry/heart_geometry_parameters.hpp"
 #include "apps/scenes/solid/solid_run.hpp"
 #include "cardio/cavity.hpp"
@@ -90,7 +91,6 @@ class LandLvScene final : public Scene {
     const Real dp = Real(gs.spacing);
     const Real h = Real(p_.numerics.smoothing_length_ratio) * dp;
     auto body = make_particle_set(g, "lv");
-    const std::size_t n = body.n_particles();
     const auto kernel = sph::make_kernel<3>(p_.numerics.kernel);
     const auto relation = sph::build_inner_relation<3>(body.position, kernel, h);
 
@@ -108,19 +108,7 @@ class LandLvScene final : public Scene {
     settings.active_stress = true;
     apply_solid_numerics<3>(p_.numerics, settings);
     sph::ElasticSolid<3> solid(body, relation, settings);
-    {
-      auto f = body.field(solid.fiber_field());
-      auto s = body.field(solid.sheet_field());
-      for (std::size_t i = 0; i < n; ++i) {
-        f[i] = g.fibres.fibre[i].cast<Real>().normalized();
-        s[i] = g.fibres.sheet[i].cast<Real>().normalized();
-      }
-    }
-    std::vector<sph::Index> base;
-    for (std::size_t i = 0; i < n; ++i)
-      if (g.labels[i] == cardio::label_base) base.push_back(static_cast<sph::Index>(i));
-    if (base.empty()) throw std::invalid_argument("land-lv: no particle is labelled base");
-    solid.clamp(base);
+    attach_heart_geometry(solid, g, "land-lv");
 
     const auto mesh = read_geometry_mesh(gs);
     std::vector<Real> volumes(body.volume.begin(), body.volume.end());

@@ -1,0 +1,27 @@
+#include "apps/scenes/electromechanics/em_setup.hpp"
+
+#include <stdexcept>
+
+namespace cardiosph {
+
+std::vector<sph::Index> attach_heart_geometry(sph::ElasticSolid<3>& solid, const cardio::HeartGeometry& geometry,
+                                              const std::string& scene) {
+  auto& body = solid.particles();
+  const std::size_t n = body.n_particles();
+  if (geometry.fibres.fibre.size() != n || geometry.fibres.sheet.size() != n)
+    throw std::invalid_argument(scene + ": the geometry has no fibre and sheet per particle");
+  auto f = body.field(solid.fiber_field());
+  auto s = body.field(solid.sheet_field());
+  for (std::size_t i = 0; i < n; ++i) {
+    f[i] = geometry.fibres.fibre[i].cast<sph::Real>().normalized();
+    s[i] = geometry.fibres.sheet[i].cast<sph::Real>().normalized();
+  }
+  std::vector<sph::Index> base;
+  for (std::size_t i = 0; i < n; ++i)
+    if (geometry.labels[i] == cardio::label_base) base.push_back(static_cast<sph::Index>(i));
+  if (base.empty()) throw std::invalid_argument(scene + ": no particle is labelled base, so the base cannot be fixed");
+  solid.clamp(base);
+  return base;
+}
+
+}  // namespace cardiosph

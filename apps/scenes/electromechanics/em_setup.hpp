@@ -1,0 +1,17 @@
+#pragma once
+// What the mesh-based electromechanics scenes share when they build the solid.
+
+#include <string>
+#include <vector>
+
+#include "cardio/heart_geometry.hpp"
+#include "libsph/solid/elastic_solid.hpp"
+
+namespace cardiosph {
+
+/// Copies the geometry's fibres and sheets into the solid and clamps the particles labelled base;
+/// returns them. Throws std::invalid_argument naming `scene` when no particle is labelled base.
+std::vector<sph::Index> attach_heart_geometry(sph::ElasticSolid<3>& solid, const cardio::HeartGeometry& geometry,
+                                              const std::string& scene);
+
+}  // namespace cardiosph
