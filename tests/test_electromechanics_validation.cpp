@@ -102,6 +102,22 @@ TEST(ElectromechanicsValidation, ThreePacedBeatsReturnToRest) {
   }
 }
 
+// Cavity pressure from a two-element Windkessel: the filled LV ejects into the compliance, which
+// raises its pressure above the starting 1 kPa.
+TEST(ElectromechanicsValidation, WindkesselLoadedHeartEjectsAgainstARisingPressure) {
+  const auto r = run(cardiosph::make_heart_scene(),
+                     {"preset=coarse", "cavity_pressure=windkessel", "lv_pressure=1", "rv_pressure=0.5", "end_time=250",
+                      "output_interval=0"},
+                     "heart_windkessel");
+  std::cout << "windkessel: LV EDV " << at(r, "lv_end_diastolic_volume_mm3") << " (unloaded " << at(r, "lv_reference_volume_mm3")
+            << "), ESV " << at(r, "lv_end_systolic_volume_mm3") << ", peak pressure " << at(r, "lv_peak_pressure_kPa")
+            << " kPa, " << r.wall_time_s << " s\n";
+  expect_sound_heart(r);
+  EXPECT_GT(at(r, "lv_end_diastolic_volume_mm3"), 1.1 * at(r, "lv_reference_volume_mm3"));  // filled by the pressure
+  EXPECT_LT(at(r, "lv_end_systolic_volume_mm3"), at(r, "lv_end_diastolic_volume_mm3"));
+  EXPECT_GT(at(r, "lv_peak_pressure_kPa"), 1.05);  // charged by the ejection
+}
+
 // Strong activation (T_a x5), a very stiff bulk modulus and the coarse resolution: the run either
 // completes with J > 0 or stops with the numerical-failure diagnostic, never with NaN results.
 TEST(ElectromechanicsValidation, StiffAndExtremeHeartEitherCompletesOrStopsWithADiagnostic) {

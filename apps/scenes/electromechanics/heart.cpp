@@ -68,7 +68,9 @@ struct HeartParameters {
   // Cavity pressure.
   std::string cavity_pressure = "none";
   double lv_pressure = 0, rv_pressure = 0, pressure_ramp_time = 50;
-  double windkessel_resistance = 0.1, windkessel_compliance = 100;
+  // Systemic values of an adult (Westerhof, Lankhaar & Westerhof 2009, Med. Biol. Eng. Comput. 47:131):
+  // R about 1 mmHg s/mL = 0.13 kPa ms/mm^3, C about 1.5 mL/mmHg = 11,000 mm^3/kPa (RC about 1.5 s).
+  double windkessel_resistance = 0.13, windkessel_compliance = 11000;
   double sample_interval = 2;
   SolidNumerics numerics;
 };
@@ -96,23 +98,25 @@ double peak_rss_mb() {
   return double(usage.ru_maxrss) / 1024.0;
 }
 
-/// Pressure of one cavity: none, constant, ramped to a value, or a two-element Windkessel
-///   C dp/dt = Q - p / R,  Q = -dV/dt (outflow from the cavity),
-/// integrated exactly over each sample interval for the mean Q (no valves: the cavity is always
-/// connected to the compliance).
+/// Pressure of one cavity: none, constant, ramped to a value, or a two-element Windkessel (whose
+/// pressure also rises over the ramp time from zero)
+///   C dp/dt = Q - p / R,  Q = max(-dV/dt, 0) (outflow from the cavity; a valve that closes
+/// against backflow, so filling draws nothing from the compliance), integrated exactly over each
+/// sample interval for the mean Q. The cavity sees p throughout (no separate filling pressure).
 struct CavityPressure {
   std::string mode;
   double value = 0, ramp = 0, resistance = 0, compliance = 0;
   double pressure = 0, last_volume = std::nan(""), last_time = 0;
 
   double at(double t) const {
+    const double rise = ramp > 0 ? std::min(1.0, t / ramp) : 1.0;  // a sudden load would shock the tissue
     if (mode == "none") return 0;
-    if (mode == "ramp") return ramp > 0 ? value * std::min(1.0, t / ramp) : value;
-    return mode == "constant" ? value : pressure;
+    if (mode == "ramp") return value * rise;
+    return mode == "constant" ? value : pressure * rise;
   }
   void update(double t, double volume) {
     if (mode == "windkessel" && !std::isnan(last_volume) && t > last_time) {
-      const double dt = t - last_time, flow = -(volume - last_volume) / dt;
+      const double dt = t - last_time, flow = std::max(0.0, -(volume - last_volume) / dt);
       const double tau = resistance * compliance, equilibrium = flow * resistance;
       pressure = equilibrium + (pressure - equilibrium) * std::exp(-dt / tau);
     }
@@ -170,7 +174,7 @@ class HeartScene final : public Scene {
     p.add("damping_rate", p_.damping_rate, "1/ms", "velocity damping c of dv/dt = ... - c v (surrounding tissue and blood)",
           sph::Range::non_negative());
     p.add_choice("cavity_pressure", p_.cavity_pressure, {"none", "constant", "ramp", "windkessel"},
-                 "endocardial pressure load: none, constant, ramped over pressure_ramp_time, or a two-element Windkessel");
+                 "endocardial pressure load: none, constant, ramped over pressure_ramp_time, or a two-element Windkessel (ramped in as well)");
     p.add("lv_pressure", p_.lv_pressure, "kPa", "LV cavity pressure (constant, ramp target, or Windkessel start)", sph::Range::any());
     p.add("rv_pressure", p_.rv_pressure, "kPa", "RV cavity pressure", sph::Range::any());
     p.add("pressure_ramp_time", p_.pressure_ramp_time, "ms", "duration of the pressure ramp", sph::Range::non_negative());
@@ -366,8 +370,9 @@ void HeartScene::run(RunContext& ctx) {
     for (const char* q : {"_V", "_T_a", "_displacement"}) observer_header.push_back(name + q);
   sph::TimeSeriesCsv observer_csv(ctx.output_dir / "observers.csv", observer_header);
 
+  // End-diastolic volume: the largest sampled; end-systolic: the smallest sampled after it.
   std::vector<double> volume_min(cavities.size(), std::numeric_limits<double>::infinity());
-  std::vector<double> volume_max(cavities.size(), 0);
+  std::vector<double> volume_max(cavities.size(), 0), peak_pressure(cavities.size(), 0);
   double min_J = 1, max_J = 1, peak_tension = 0, peak_kinetic = 0, peak_displacement = 0;
   std::vector<double> end_of_beat_lv_volume, end_of_beat_max_displacement, end_of_beat_max_tension, end_of_beat_mean_V;
   auto sample = [&](const sph::StepInfo& s) {
@@ -377,10 +382,11 @@ void HeartScene::run(RunContext& ctx) {
     for (std::size_t c = 0; c < cavities.size(); ++c) {
       const double v = cavity_volume(c);
       pressures[c].update(s.time, v);
+      if (v > volume_max[c]) volume_max[c] = v, volume_min[c] = v;
       volume_min[c] = std::min(volume_min[c], v);
-      volume_max[c] = std::max(volume_max[c], v);
       row.push_back(v);
       row.push_back(pressures[c].at(s.time));
+      peak_pressure[c] = std::max(peak_pressure[c], pressures[c].at(s.time));
     }
     const auto V = body.field(monodomain.potential_field());
     const auto T = tension.tension();
@@ -451,6 +457,7 @@ void HeartScene::run(RunContext& ctx) {
     r.results[name + "_reference_volume_mm3"] = cavities[c].reference_volume;
     r.results[name + "_end_diastolic_volume_mm3"] = volume_max[c];
     r.results[name + "_end_systolic_volume_mm3"] = volume_min[c];
+    r.results[name + "_peak_pressure_kPa"] = peak_pressure[c];
     r.results[name + "_ejection_fraction"] = volume_max[c] > 0 ? (volume_max[c] - volume_min[c]) / volume_max[c] : 0.0;
   }
   r.results["max_activation_ms"] = monodomain.latest_activation();
