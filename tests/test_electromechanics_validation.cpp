@@ -90,7 +90,8 @@ TEST(ElectromechanicsValidation, ThreePacedBeatsReturnToRest) {
   const double reference = at(r, "lv_reference_volume_mm3"), peak = at(r, "peak_active_tension_kPa");
   std::cout << "three beats: end-of-beat LV volume " << end.at("lv_volume_mm3") << " (reference " << reference
             << "), max displacement " << end.at("max_displacement_mm") << ", max T_a " << end.at("max_active_tension_kPa")
-            << " (peak " << peak << "), mean V " << end.at("mean_potential_mV") << ", LV EF " << at(r, "lv_ejection_fraction")
+            << " (peak " << peak << "), mean V " << end.at("mean_potential_mV") << ", energy " << end.at("energy")
+            << " (peak strain " << at(r, "peak_strain_energy") << "), LV EF " << at(r, "lv_ejection_fraction")
             << ", " << r.wall_time_s << " s\n";
   ASSERT_EQ(end.at("lv_volume_mm3").size(), 3u);
   for (std::size_t beat = 0; beat < 3; ++beat) {
@@ -99,6 +100,8 @@ TEST(ElectromechanicsValidation, ThreePacedBeatsReturnToRest) {
     EXPECT_LT(std::abs(end.at("lv_volume_mm3")[beat].get<double>() - reference), 0.005 * reference) << "beat " << beat;
     EXPECT_LT(end.at("max_active_tension_kPa")[beat].get<double>(), 0.1 * peak) << "beat " << beat;
     EXPECT_LT(std::abs(end.at("mean_potential_mV")[beat].get<double>() + 80), 2.0) << "beat " << beat;
+    // Energy (kinetic + passive strain) back below 1 % of the peak strain energy of the beat.
+    EXPECT_LT(end.at("energy")[beat].get<double>(), 0.01 * at(r, "peak_strain_energy")) << "beat " << beat;
   }
 }
 

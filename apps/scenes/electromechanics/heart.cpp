@@ -373,8 +373,8 @@ void HeartScene::run(RunContext& ctx) {
   // End-diastolic volume: the largest sampled; end-systolic: the smallest sampled after it.
   std::vector<double> volume_min(cavities.size(), std::numeric_limits<double>::infinity());
   std::vector<double> volume_max(cavities.size(), 0), peak_pressure(cavities.size(), 0);
-  double min_J = 1, max_J = 1, peak_tension = 0, peak_kinetic = 0, peak_displacement = 0;
-  std::vector<double> end_of_beat_lv_volume, end_of_beat_max_displacement, end_of_beat_max_tension, end_of_beat_mean_V;
+  double min_J = 1, max_J = 1, peak_tension = 0, peak_kinetic = 0, peak_strain = 0, peak_displacement = 0;
+  std::vector<double> end_of_beat_energy, end_of_beat_lv_volume, end_of_beat_max_displacement, end_of_beat_max_tension, end_of_beat_mean_V;
   auto sample = [&](const sph::StepInfo& s) {
     const auto start = std::chrono::steady_clock::now();
     const auto e = solid.energies();  // leaves F at the current positions
@@ -399,6 +399,7 @@ void HeartScene::run(RunContext& ctx) {
     max_J = std::max<double>(max_J, e.max_jacobian);
     peak_tension = std::max(peak_tension, max_T);
     peak_kinetic = std::max(peak_kinetic, e.kinetic);
+    peak_strain = std::max(peak_strain, e.strain);
     peak_displacement = std::max<double>(peak_displacement, max_u);
     std::vector<double> obs{double(s.time)};
     for (const auto& [name, i] : observers)
@@ -411,7 +412,7 @@ void HeartScene::run(RunContext& ctx) {
     if (s.time <= 0) return;
     const auto T = tension.tension();
     const auto V = body.field(monodomain.potential_field());
-    solid.update_deformation_gradient();
+    end_of_beat_energy.push_back(solid.energies().total());  // also leaves F at the current positions
     end_of_beat_lv_volume.push_back(cavities.empty() ? 0.0 : cavity_volume(0));
     end_of_beat_max_displacement.push_back(
         sph::parallel_max(n, Real(0), [&](std::size_t i) { return (body.position[i] - X[i]).norm(); }));
@@ -471,7 +472,9 @@ void HeartScene::run(RunContext& ctx) {
   r.results["peak_active_tension_kPa"] = peak_tension;
   r.results["peak_kinetic_energy"] = peak_kinetic;
   r.results["peak_displacement_mm"] = peak_displacement;
-  r.results["end_of_beat"] = {{"lv_volume_mm3", end_of_beat_lv_volume},
+  r.results["peak_strain_energy"] = peak_strain;
+  r.results["end_of_beat"] = {{"energy", end_of_beat_energy},
+                              {"lv_volume_mm3", end_of_beat_lv_volume},
                               {"max_displacement_mm", end_of_beat_max_displacement},
                               {"max_active_tension_kPa", end_of_beat_max_tension},
                               {"mean_potential_mV", end_of_beat_mean_V}};
