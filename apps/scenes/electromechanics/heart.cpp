@@ -20,7 +20,6 @@
 #include <iostream>
 #include <limits>
 #include <optional>
-#include <sstream>
 
 #include "apps/scenes/electromechanics/em_scenes.hpp"
 #include "apps/scenes/electromechanics/em_setup.hpp"
@@ -80,16 +79,6 @@ double preset_spacing(const std::string& preset) {
   if (preset == "coarse") return 3.0;
   if (preset == "fine") return 1.0;
   return 2.0;
-}
-
-Vec3 parse_point(const std::string& key, const std::string& text) {
-  std::string t = text;
-  std::replace(t.begin(), t.end(), ',', ' ');
-  std::istringstream in(t);
-  double x, y, z;
-  if (!(in >> x >> y >> z) || !(in >> std::ws).eof())
-    throw sph::ParameterError("parameter '" + key + "' = '" + text + "': expected three numbers x,y,z");
-  return Vec3(Real(x), Real(y), Real(z));
 }
 
 double peak_rss_mb() {
@@ -187,7 +176,7 @@ class HeartScene final : public Scene {
 
   void check() const override {
     (void)geometry_settings();
-    if (p_.stimulus_site == "point") (void)parse_point("stimulus_point", p_.stimulus_point);
+    if (p_.stimulus_site == "point") (void)parse_vector("stimulus_point", p_.stimulus_point, true);
     if (p_.stimulus_duration >= p_.cycle_length)
       throw sph::ParameterError("parameter 'stimulus_duration' must be shorter than 'cycle_length'");
   }
@@ -257,7 +246,7 @@ void HeartScene::run(RunContext& ctx) {
   // Stimulus: every particle within the radius of the centre.
   Vec3 centre;
   if (p_.stimulus_site == "point") {
-    centre = parse_point("stimulus_point", p_.stimulus_point);
+    centre = parse_vector("stimulus_point", p_.stimulus_point, true).cast<Real>();
   } else {
     const Vec3 normal = g.base_normal.cast<Real>();
     Real farthest = -std::numeric_limits<Real>::infinity();

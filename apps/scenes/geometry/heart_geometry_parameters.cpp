@@ -5,18 +5,6 @@
 namespace cardiosph {
 namespace {
 
-geometry::Vec3 parse_vector(const std::string& key, const std::string& text) {
-  std::string t = text;
-  for (char& c : t)
-    if (c == ',') c = ' ';
-  std::istringstream in(t);
-  geometry::Vec3 v;
-  if (!(in >> v.x() >> v.y() >> v.z()) || !(in >> std::ws).eof())
-    throw sph::ParameterError("parameter '" + key + "' = '" + text + "': expected three numbers x,y,z");
-  if (v.norm() == 0) throw sph::ParameterError("parameter '" + key + "' = '" + text + "': must not be zero");
-  return v;
-}
-
 void require_file(const std::string& key, const std::string& path) {
   if (path.empty()) return;
   if (!std::filesystem::is_regular_file(path))
@@ -24,6 +12,18 @@ void require_file(const std::string& key, const std::string& path) {
 }
 
 }  // namespace
+
+geometry::Vec3 parse_vector(const std::string& key, const std::string& text, bool allow_zero) {
+  std::string t = text;
+  for (char& c : t)
+    if (c == ',') c = ' ';
+  std::istringstream in(t);
+  geometry::Vec3 v;
+  if (!(in >> v.x() >> v.y() >> v.z()) || !(in >> std::ws).eof())
+    throw sph::ParameterError("parameter '" + key + "' = '" + text + "': expected three numbers x,y,z");
+  if (!allow_zero && v.norm() == 0) throw sph::ParameterError("parameter '" + key + "' = '" + text + "': must not be zero");
+  return v;
+}
 
 std::filesystem::path shipped_mesh(const std::string& file) { return std::filesystem::path(CARDIOSPH_MESH_DIR) / file; }
 

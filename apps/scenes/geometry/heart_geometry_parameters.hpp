@@ -11,6 +11,10 @@
 
 namespace cardiosph {
 
+/// Three numbers "x,y,z" (commas or spaces) of parameter `key`; throws sph::ParameterError naming
+/// it when malformed, or when zero unless allow_zero (directions).
+geometry::Vec3 parse_vector(const std::string& key, const std::string& text, bool allow_zero = false);
+
 /// The shipped meshes (meshes/ of the source tree).
 std::filesystem::path shipped_mesh(const std::string& file);
 
