@@ -1,84 +1,77 @@
 #include "cardio/electromechanics.hpp"
 
-#include <chrono>
-#include <cmath>
 #include <stdexcept>
+#include <vector>
 
 #include "libsph/core/parallel.hpp"
 
 namespace cardio {
 
-namespace {
-template <class Work>
-void timed(double& seconds, Work&& work) {
-  const auto start = std::chrono::steady_clock::now();
-  work();
-  seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+template <int Dim>
+void interact(ActiveTension<Dim>& on, const Monodomain<Dim>&, sph::SameParticles, Real time, Real dt) {
+  on.advance(time, dt);
 }
-}  // namespace
 
 template <int Dim>
-Electromechanics<Dim>::Electromechanics(Monodomain<Dim>& monodomain, ActiveTension<Dim>& tension,
-                                        sph::ElasticSolid<Dim>& solid, Settings settings)
-    : monodomain_(monodomain), tension_(tension), solid_(solid), settings_(settings) {
-  if (!solid_.active_tension_field().valid())
+void interact(sph::ElasticSolid<Dim>& on, const ActiveTension<Dim>& by, sph::SameParticles, Real time, Real dt) {
+  const Real fraction = (time + dt / 2 - by.step_start()) / by.step_size();
+  by.interpolate(fraction, on.particles().field(on.active_tension_field()));
+}
+
+template <int Dim>
+void interact(Monodomain<Dim>& on, const sph::ElasticSolid<Dim>& by, sph::SameParticles, Real, Real) {
+  const auto& body = by.particles();
+  const auto F = body.field(by.deformation_gradient_field());
+  const auto f0 = body.field(by.fiber_field());
+  const Real D_l = on.settings().longitudinal_diffusivity, D_t = on.settings().transverse_diffusivity;
+  std::vector<sph::Mat<Dim>> D(body.n_particles());
+  sph::parallel_for(D.size(), [&](std::size_t i) { D[i] = pulled_back_conduction<Dim>(F[i], f0[i], D_l, D_t); });
+  on.set_diffusion_tensor(std::move(D));
+}
+
+template <int Dim>
+void add_electromechanics(sph::TimeStepper& stepper, Monodomain<Dim>& monodomain, ActiveTension<Dim>& tension,
+                          sph::ElasticSolid<Dim>& solid, const ElectromechanicsSettings& settings,
+                          sph::SectionTimers& timers) {
+  if (!solid.active_tension_field().valid())
     throw std::invalid_argument("electromechanics: the solid must be built with active stress");
-  if (!(settings_.longitudinal_diffusivity > 0 && settings_.transverse_diffusivity > 0))
-    throw std::invalid_argument("electromechanics: the diffusivities must be positive");
-  if (!(settings_.conduction_update_interval > 0))
+  if (&solid.particles() != &monodomain.particles())
+    throw std::invalid_argument("electromechanics: the monodomain and the solid must share one particle set");
+  const Real D_l = monodomain.settings().longitudinal_diffusivity, D_t = monodomain.settings().transverse_diffusivity;
+  if (settings.deformed_conduction && !(D_l > 0 && D_t > 0))
+    throw std::invalid_argument("electromechanics: deformed conduction needs positive fibre diffusivities");
+  if (!(settings.conduction_update_interval > 0))
     throw std::invalid_argument("electromechanics: the conduction update interval must be positive");
+
+  sph::Stage mechanics{"mechanics", [&solid] { return solid.stable_time_step(); }, {}};
+  mechanics.then("mechanics", timers.timed("mechanics", [&solid, &tension](Real t, Real dt) {
+    interact(solid, tension, sph::same_particles, t, dt);
+    solid.advance(t, dt);
+  }));
+  sph::Stage step = monodomain.stage("electromechanics");
+  step.then("active tension", timers.timed("active_tension", sph::coupling(tension, monodomain, sph::same_particles)))
+      .sub_cycle(std::move(mechanics));
+  stepper.add_stage(std::move(step));
+
+  if (settings.deformed_conduction)
+    stepper.add_event("conduction update", {settings.conduction_update_interval, false, false, false},
+                      [&monodomain, &solid, &timers](const sph::StepInfo& s) {
+                        timers.measure("conduction_update", [&] {
+                          solid.update_deformation_gradient();
+                          interact(monodomain, solid, sph::same_particles, s.time, Real(0));
+                        });
+                      });
 }
 
-template <int Dim>
-void Electromechanics<Dim>::update_conduction() {
-  timed(own_.conduction, [&] {
-    auto& body = solid_.particles();
-    solid_.update_deformation_gradient();
-    const auto F = body.field(solid_.deformation_gradient_field());
-    const auto f0 = body.field(solid_.fiber_field());
-    std::vector<sph::Mat<Dim>> D(body.n_particles());
-    sph::parallel_for(D.size(), [&](std::size_t i) {
-      D[i] = pulled_back_conduction<Dim>(F[i], f0[i], settings_.longitudinal_diffusivity, settings_.transverse_diffusivity);
-    });
-    monodomain_.set_diffusion_tensor(std::move(D));
-  });
-  ++conduction_updates_;
-}
-
-template <int Dim>
-void Electromechanics<Dim>::add_stages(sph::TimeStepper& stepper) {
-  stepper.add_stage({"electrophysiology", [this] { return monodomain_.time_step(); },
-                     [this](Real t, Real dt) {
-                       if (settings_.deformed_conduction &&
-                           t - last_conduction_update_ >= settings_.conduction_update_interval * (1 - 1e-9)) {
-                         update_conduction();
-                         last_conduction_update_ = t;
-                       }
-                       monodomain_.advance(t, dt);
-                       timed(own_.tension, [&] { tension_.advance(t, dt); });
-                     },
-                     false});
-  stepper.add_stage({"mechanics", [this] { return solid_.stable_time_step(); },
-                     [this](Real t, Real dt) {
-                       timed(own_.mechanics, [&] {
-                         const Real fraction = (t + dt / 2 - tension_.step_start()) / tension_.step_size();
-                         tension_.interpolate(fraction, solid_.particles().field(solid_.active_tension_field()));
-                         solid_.advance(t, dt);
-                       });
-                       ++mechanics_substeps_;
-                     },
-                     true});
-}
-
-template <int Dim>
-typename Electromechanics<Dim>::Timings Electromechanics<Dim>::timings() const {
-  Timings t = own_;
-  t.reaction = monodomain_.timings().reaction;
-  t.diffusion = monodomain_.timings().diffusion;
-  return t;
-}
-
-template class Electromechanics<2>;
-template class Electromechanics<3>;
+template void interact<2>(ActiveTension<2>&, const Monodomain<2>&, sph::SameParticles, Real, Real);
+template void interact<3>(ActiveTension<3>&, const Monodomain<3>&, sph::SameParticles, Real, Real);
+template void interact<2>(sph::ElasticSolid<2>&, const ActiveTension<2>&, sph::SameParticles, Real, Real);
+template void interact<3>(sph::ElasticSolid<3>&, const ActiveTension<3>&, sph::SameParticles, Real, Real);
+template void interact<2>(Monodomain<2>&, const sph::ElasticSolid<2>&, sph::SameParticles, Real, Real);
+template void interact<3>(Monodomain<3>&, const sph::ElasticSolid<3>&, sph::SameParticles, Real, Real);
+template void add_electromechanics<2>(sph::TimeStepper&, Monodomain<2>&, ActiveTension<2>&, sph::ElasticSolid<2>&,
+                                      const ElectromechanicsSettings&, sph::SectionTimers&);
+template void add_electromechanics<3>(sph::TimeStepper&, Monodomain<3>&, ActiveTension<3>&, sph::ElasticSolid<3>&,
+                                      const ElectromechanicsSettings&, sph::SectionTimers&);
 
 }  // namespace cardio

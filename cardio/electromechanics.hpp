@@ -3,16 +3,21 @@
 // gating states), the active tension T_a and the TLSPH solid (displacement, F, stress, fibre and
 // sheet) all live on the same particles and the same reference-configuration inner relation.
 //
-// Time stepping (multi-rate, exact time bookkeeping), one macro step [t, t + dt] of the size of the
-// monodomain's splitting step (or shorter, to land on output and event times):
-//   1. electrophysiology: reaction dt/2, diffusion over dt in sub-steps at its own stability limit,
-//      reaction dt/2 (cardio/monodomain.hpp);
+// Three systems on one particle set, coupled by three interactions (libsph/core/interaction.hpp),
+//   tension  <- monodomain  the active tension from the potential,
+//   solid    <- tension     the active stress T_a f0 (x) f0,
+//   monodomain <- solid     the conduction tensor pulled back through F,
+// and one stage (libsph/core/time_stepper.hpp), a step [t, t + dt] of the monodomain's splitting
+// step (or shorter, to land on output and event times):
+//   1. electrophysiology: reaction dt/2, diffusion over dt (nested stage at its own stability
+//      limit), reaction dt/2 (cardio/monodomain.hpp);
 //   2. active tension over [t, t + dt] from the potential before and after step 1
 //      (cardio/active_tension.hpp);
-//   3. mechanics over [t, t + dt] in ceil(dt / dt_acoustic) equal sub-steps; the sub-step from s to
-//      s + ds sees T_a interpolated linearly at its midpoint s + ds/2, where position-based Verlet
-//      evaluates the stress.
-// All three fields are therefore at t + dt together at the end of the macro step.
+//   3. mechanics over [t, t + dt], a nested stage at the acoustic step of the solid (re-evaluated
+//      before every sub-step); the sub-step from s to s + ds sees T_a interpolated linearly at its
+//      midpoint s + ds/2, where position-based Verlet evaluates the stress.
+// All three fields are therefore at t + dt together at the end of the step. The conduction update
+// is an event every `conduction_update_interval`, between steps.
 //
 // Conduction on the deforming tissue: the reference-configuration form of the monodomain. With the
 // current-configuration tensor D = D_t I + (D_l - D_t) f (x) f along the deformed fibre
@@ -25,11 +30,12 @@
 // are reassembled from the current F, every `conduction_update_interval`, instead of a neighbour
 // search and kernel gradients in the deformed configuration every step.
 
-#include <functional>
-#include <vector>
+#include <cstddef>
 
 #include "cardio/active_tension.hpp"
 #include "cardio/monodomain.hpp"
+#include "libsph/core/interaction.hpp"
+#include "libsph/core/section_timers.hpp"
 #include "libsph/core/time_stepper.hpp"
 #include "libsph/solid/elastic_solid.hpp"
 
@@ -43,45 +49,37 @@ sph::Mat<Dim> pulled_back_conduction(const sph::Mat<Dim>& F, const sph::Vec<Dim>
   return transverse * C.inverse() + (longitudinal - transverse) / I4f * (f0 * f0.transpose());
 }
 
+// The three interactions of the myocardium (all on one particle set).
+
+/// The active tension over [time, time + dt] from the monodomain's potential (the field the
+/// tension was built on).
 template <int Dim>
-class Electromechanics {
- public:
-  struct Settings {
-    Real longitudinal_diffusivity = 0;   ///< D_l along the fibre [mm^2/ms]
-    Real transverse_diffusivity = 0;     ///< D_t across it
-    bool deformed_conduction = true;     ///< pull the conduction tensor back through F (else D in the reference)
-    Real conduction_update_interval = 2; ///< [ms] between reassemblies of the diffusion operator
-  };
-  /// Seconds spent in each part.
-  struct Timings {
-    double reaction = 0, diffusion = 0, tension = 0, mechanics = 0, conduction = 0;
-  };
+void interact(ActiveTension<Dim>& on, const Monodomain<Dim>& by, sph::SameParticles, Real time, Real dt);
 
-  /// The three systems must share one particle set; the solid needs Settings::active_stress and
-  /// its fibre field holds f0 (set before the first step).
-  Electromechanics(Monodomain<Dim>& monodomain, ActiveTension<Dim>& tension, sph::ElasticSolid<Dim>& solid, Settings settings);
+/// The active stress of the solid over the sub-step [time, time + dt]: T_a of the last tension step
+/// interpolated at the sub-step's midpoint into the solid's active tension field.
+template <int Dim>
+void interact(sph::ElasticSolid<Dim>& on, const ActiveTension<Dim>& by, sph::SameParticles, Real time, Real dt);
 
-  /// Adds the stages to `stepper`: electrophysiology with the active tension (steps 1-2 above), then
-  /// the sub-cycled mechanics (step 3).
-  void add_stages(sph::TimeStepper& stepper);
-  /// Reassembles the diffusion operator with D0 from the current F.
-  void update_conduction();
+/// The conduction tensor of the monodomain pulled back through the solid's deformation gradient
+/// (D0 above, with the monodomain's D_l, D_t and the solid's reference fibres), and the diffusion
+/// operator reassembled. F must be current (ElasticSolid::update_deformation_gradient).
+template <int Dim>
+void interact(Monodomain<Dim>& on, const sph::ElasticSolid<Dim>& by, sph::SameParticles, Real time, Real dt);
 
-  Timings timings() const;
-  std::size_t mechanics_substeps() const { return mechanics_substeps_; }
-  std::size_t conduction_updates() const { return conduction_updates_; }
-
- private:
-  Monodomain<Dim>& monodomain_;
-  ActiveTension<Dim>& tension_;
-  sph::ElasticSolid<Dim>& solid_;
-  Settings settings_;
-  Timings own_;
-  Real last_conduction_update_ = 0;
-  std::size_t mechanics_substeps_ = 0, conduction_updates_ = 0;
+struct ElectromechanicsSettings {
+  bool deformed_conduction = true;      ///< pull the conduction tensor back through F (else D in the reference)
+  Real conduction_update_interval = 2;  ///< [ms] between reassemblies of the diffusion operator
 };
 
-extern template class Electromechanics<2>;
-extern template class Electromechanics<3>;
+/// Declares the coupled step on `stepper`: the stage described above and, with deformed
+/// conduction, the conduction update event. The parts are timed in `timers` under "active_tension",
+/// "mechanics" (one call per sub-step) and "conduction_update" (one per update); the monodomain
+/// times its reaction and diffusion itself (Monodomain::timings). The solid needs active stress and its fibre field must hold f0; the
+/// monodomain needs its D_l and D_t. Everything passed must outlive the stepper.
+template <int Dim>
+void add_electromechanics(sph::TimeStepper& stepper, Monodomain<Dim>& monodomain, ActiveTension<Dim>& tension,
+                          sph::ElasticSolid<Dim>& solid, const ElectromechanicsSettings& settings,
+                          sph::SectionTimers& timers);
 
 }  // namespace cardio

@@ -10,9 +10,10 @@ namespace cardio {
 
 namespace {
 template <int Dim>
-typename sph::ScalarDiffusionSystem<Dim>::Settings diffusion_settings(const typename Monodomain<Dim>::Settings& s) {
+typename sph::ScalarDiffusionSystem<Dim>::Settings diffusion_settings(const typename Monodomain<Dim>::Settings& s,
+                                                                     sph::FieldHandle<Real> potential) {
   typename sph::ScalarDiffusionSystem<Dim>::Settings d;
-  d.field_name = "transmembrane_potential";
+  d.field = potential;  // the cell model's potential, passed on by handle
   d.diffusion_tensor = s.diffusion_tensor;
   d.correction = s.correction;
   d.integrator = s.diffusion_integrator;
@@ -41,7 +42,8 @@ Monodomain<Dim>::Monodomain(sph::ParticleSet<Dim>& particles, const sph::InnerRe
     : particles_(particles),
       settings_(std::move(settings)),
       reaction_(make_reaction(particles, settings_)),
-      diffusion_(particles, relation, diffusion_settings<Dim>(settings_)) {
+      diffusion_(particles, relation,
+                 diffusion_settings<Dim>(settings_, std::visit([](const auto& r) { return r.potential_field(); }, reaction_))) {
   if (!(settings_.time_step > 0 && std::isfinite(settings_.time_step)))
     throw std::invalid_argument("monodomain on '" + particles.name() + "': the time step must be positive");
   const std::size_t n = particles.n_particles();
@@ -50,10 +52,33 @@ Monodomain<Dim>::Monodomain(sph::ParticleSet<Dim>& particles, const sph::InnerRe
       if (i >= n)
         throw std::invalid_argument("monodomain on '" + particles.name() + "': stimulus region '" + region.name +
                                     "' names particle " + std::to_string(i) + " of " + std::to_string(n));
-  potential_ = std::visit([](const auto& r) { return r.potential_field(); }, reaction_);
+  potential_ = diffusion_.value_field();
   activation_ = particles.template register_field<Real>("activation_time", Real(-1));
   stimulus_.assign(n, 0);
   previous_potential_.assign(n, 0);
+  step_ = stage();
+}
+
+template <int Dim>
+sph::Stage Monodomain<Dim>::stage(std::string name) {
+  sph::Stage step{std::move(name), [this] { return settings_.time_step; }, {}};
+  sph::Stage diffusion{"diffusion", [this] { return diffusion_.stable_time_step(); }, {}};
+  diffusion.then("diffusion", [this](Real t, Real dt) {
+    const auto start = std::chrono::steady_clock::now();
+    diffusion_.advance(t, dt);
+    ++diffusion_substeps_;
+    timings_.diffusion += seconds_since(start);
+  });
+  step.then("store potential",
+            [this](Real, Real) {
+              const auto V = particles_.field(potential_);
+              std::copy(V.begin(), V.end(), previous_potential_.begin());
+            })
+      .then("reaction", [this](Real t, Real dt) { react(t, dt / 2); })
+      .sub_cycle(std::move(diffusion))
+      .then("reaction", [this](Real t, Real dt) { react(t + dt / 2, dt / 2); })
+      .then("activation", [this](Real t, Real dt) { record_activation(t, dt); });
+  return step;
 }
 
 template <int Dim>
@@ -74,22 +99,10 @@ void Monodomain<Dim>::react(Real time, Real dt) {
 }
 
 template <int Dim>
-void Monodomain<Dim>::advance(Real time, Real dt) {
-  auto V = particles_.field(potential_);
-  std::copy(V.begin(), V.end(), previous_potential_.begin());
-
-  const Real half = dt / 2;
-  react(time, half);
-  const auto start = std::chrono::steady_clock::now();
-  const auto substeps = static_cast<std::size_t>(std::ceil(dt / diffusion_.stable_time_step() * (1 - 1e-12)));
-  const Real sub_dt = dt / static_cast<Real>(std::max<std::size_t>(substeps, 1));
-  for (std::size_t s = 0; s < std::max<std::size_t>(substeps, 1); ++s) diffusion_.advance(time + s * sub_dt, sub_dt);
-  diffusion_substeps_ += std::max<std::size_t>(substeps, 1);
-  timings_.diffusion += seconds_since(start);
-  react(time + half, half);
-
-  // Activation: the first upward crossing of the threshold, interpolated linearly in the step.
+void Monodomain<Dim>::record_activation(Real time, Real dt) {
+  // The first upward crossing of the threshold, interpolated linearly in the step.
   const Real threshold = settings_.activation_threshold;
+  const auto V = particles_.field(potential_);
   auto activation = particles_.field(activation_);
   sph::parallel_for(V.size(), [&](std::size_t i) {
     if (activation[i] >= 0 || !(previous_potential_[i] < threshold && V[i] >= threshold)) return;

@@ -6,9 +6,10 @@
 // In mm, ms, mV with sigma in S/m, chi in 1/mm and C_m in uF/mm^2, D [mm^2/ms] = sigma / (chi C_m)
 // with no further factor (monodomain_diffusivity below).
 //
-// One step of size dt is Strang operator splitting (reaction / diffusion / reaction):
+// One step of size dt is Strang operator splitting (reaction / diffusion / reaction), declared as
+// the phases of one stage (stage(); libsph/core/time_stepper.hpp):
 //   cells over dt/2 (scheme of the cell model, stimulus averaged over the half step),
-//   diffusion over dt in equal sub-steps at most the diffusion stability limit,
+//   diffusion over dt, a nested stage whose sub-steps are at most the diffusion stability limit,
 //   cells over dt/2,
 // followed by the activation-time update: the first time V rises through the threshold, found by
 // linear interpolation within the step. The diffusion is the anisotropic SPH operator of
@@ -21,6 +22,7 @@
 
 #include "libsph/core/neighbour_relation.hpp"
 #include "libsph/core/particles.hpp"
+#include "libsph/core/time_stepper.hpp"
 #include "libsph/diffusion/diffusion_system.hpp"
 #include "libsph/reaction/cell_models.hpp"
 #include "libsph/reaction/reaction_system.hpp"
@@ -48,6 +50,9 @@ class Monodomain {
     sph::ReactionScheme scheme = sph::ReactionScheme::rbr_qss;
     Real time_step = Real(0.05);                   ///< splitting step [ms]
     std::vector<sph::Mat<Dim>> diffusion_tensor;   ///< D [mm^2/ms], one (uniform) or one per particle
+    /// D_l along and D_t across the fibres [mm^2/ms], for conduction that follows a deforming
+    /// tissue (the interaction with the solid, cardio/electromechanics.hpp); 0 when unused.
+    Real longitudinal_diffusivity = 0, transverse_diffusivity = 0;
     sph::DiffusionCorrection correction = sph::DiffusionCorrection::moment;
     sph::DiffusionIntegrator diffusion_integrator = sph::DiffusionIntegrator::forward_euler;
     Real diffusion_cfl = Real(0.9);                ///< fraction of the diffusion stability limit
@@ -63,6 +68,8 @@ class Monodomain {
 
   /// The relation must be the inner relation of `particles` and outlive the system.
   Monodomain(sph::ParticleSet<Dim>& particles, const sph::InnerRelation<Dim>& relation, Settings settings);
+  Monodomain(const Monodomain&) = delete;  // its stage refers to it
+  Monodomain& operator=(const Monodomain&) = delete;
 
   /// The splitting step (the reaction schemes of the cell models are stable at any step).
   Real time_step() const { return settings_.time_step; }
@@ -72,8 +79,11 @@ class Monodomain {
   void set_diffusion_tensor(std::vector<sph::Mat<Dim>> diffusion_tensor) {
     diffusion_.set_diffusion_tensor(std::move(diffusion_tensor));
   }
-  /// One Strang step from `time` by dt.
-  void advance(Real time, Real dt);
+  /// The Strang step as a stage (stable step: the splitting step) to run in a time stepper or to
+  /// nest in a coupled stage; later phases (e.g. the active tension) may be appended to it.
+  sph::Stage stage(std::string name = "electrophysiology");
+  /// One Strang step from `time` by dt (the phases of stage()).
+  void advance(Real time, Real dt) { step_.run_step(time, dt); }
 
   sph::FieldHandle<Real> potential_field() const { return potential_; }
   sph::FieldHandle<Real> activation_field() const { return activation_; }
@@ -84,6 +94,7 @@ class Monodomain {
   const Timings& timings() const { return timings_; }
   std::size_t diffusion_substeps() const { return diffusion_substeps_; }
   const Settings& settings() const { return settings_; }
+  const sph::ParticleSet<Dim>& particles() const { return particles_; }
   /// The stimulus regions, which may be changed between steps (e.g. a pulse timed by the state).
   std::vector<StimulusRegion>& stimuli() { return settings_.stimuli; }
 
@@ -92,6 +103,7 @@ class Monodomain {
                                 sph::ReactionSystem<Dim, sph::TenTusscherPanfilov2006>>;
   static Reaction make_reaction(sph::ParticleSet<Dim>& particles, const Settings& settings);
   void react(Real time, Real dt);
+  void record_activation(Real time, Real dt);
 
   sph::ParticleSet<Dim>& particles_;
   Settings settings_;
@@ -101,6 +113,7 @@ class Monodomain {
   std::vector<Real> stimulus_, previous_potential_;
   Timings timings_;
   std::size_t diffusion_substeps_ = 0;
+  sph::Stage step_;
 };
 
 extern template class Monodomain<2>;

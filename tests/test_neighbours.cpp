@@ -7,6 +7,7 @@
 #include <random>
 
 #include "libsph/core/neighbour_relation.hpp"
+#include "libsph/core/particle_sorting.hpp"
 
 namespace {
 
@@ -107,6 +108,68 @@ TEST(NeighbourSearch, ContactTargetsOutsideSources) {
   const auto expected = sph::brute_force_neighbours<3>(targets, sources, 0.1, false);
   EXPECT_EQ(relation.n_neighbours(2), expected[2].size());
   EXPECT_GT(expected[2].size(), 0u);
+}
+
+}  // namespace
+
+namespace {
+
+// Rebuilt in place at moved positions, a relation equals one built anew, pair for pair.
+TEST(Neighbours, RebuiltInPlaceEqualsBuiltAnew) {
+  const auto kernel = sph::make_kernel<3>("wendland_c2");
+  auto points = random_points<3>(3000, 1, 11);
+  auto relation = sph::build_inner_relation<3>(points, kernel, Real(0.05));
+  const auto moved = random_points<3>(3000, Real(1.2), 12);
+  sph::rebuild_inner_relation<3>(relation, moved, kernel, Real(0.05));
+  const auto fresh = sph::build_inner_relation<3>(moved, kernel, Real(0.05));
+  EXPECT_EQ(relation.offsets, fresh.offsets);
+  EXPECT_EQ(relation.neighbour, fresh.neighbour);
+  EXPECT_EQ(relation.kernel_derivative, fresh.kernel_derivative);
+  const auto targets = random_points<3>(500, 1, 13);
+  auto contact = sph::build_contact_relation<3>(targets, points, kernel, Real(0.05));
+  sph::rebuild_contact_relation<3>(contact, targets, moved, kernel, Real(0.05));
+  EXPECT_EQ(contact.neighbour, sph::build_contact_relation<3>(targets, moved, kernel, Real(0.05)).neighbour);
+}
+
+// Sorting along the cell list permutes every field with the positions, and the relation of the
+// sorted set holds the same pairs under the new indices.
+TEST(Neighbours, SortingAlongTheCellListMovesEveryFieldWithItsParticle) {
+  const auto points = random_points<2>(2000, 1, 21);
+  sph::ParticleSet<2> set("random", points, std::vector<Real>(points.size(), Real(1e-3)));
+  const auto tag = set.register_field<Index>("original_index");
+  const auto x_copy = set.register_field<sph::Vec<2>>("position_copy");
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    set.field(tag)[i] = Index(i);
+    set.field(x_copy)[i] = points[i];
+    set.volume[i] = Real(i);
+  }
+  const auto kernel = sph::make_kernel<2>("wendland_c2");
+  const Real h = Real(0.02);
+  const auto before = sph::build_inner_relation<2>(set.position, kernel, h);
+  const auto order = sph::sort_particles<2>(set, 2 * h);  // cells of one kernel support
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    ASSERT_EQ(set.field(tag)[k], order[k]);
+    ASSERT_EQ(set.position[k], points[order[k]]);
+    ASSERT_EQ(set.field(x_copy)[k], points[order[k]]);
+    ASSERT_EQ(set.volume[k], Real(order[k]));
+  }
+  // Sorted: consecutive particles lie in the same or a nearby cell far more often than before.
+  auto mean_gap = [](std::span<const sph::Vec<2>> x) {
+    double sum = 0;
+    for (std::size_t k = 1; k < x.size(); ++k) sum += (x[k] - x[k - 1]).norm();
+    return sum / double(x.size() - 1);
+  };
+  EXPECT_LT(mean_gap(set.position), 0.2 * mean_gap(points));
+  const auto after = sph::build_inner_relation<2>(set.position, kernel, h);
+  ASSERT_EQ(after.n_pairs(), before.n_pairs());
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    std::vector<Index> new_row, old_row;
+    for (std::size_t p = after.offsets[k]; p < after.offsets[k + 1]; ++p) new_row.push_back(order[after.neighbour[p]]);
+    for (std::size_t p = before.offsets[order[k]]; p < before.offsets[order[k] + 1]; ++p) old_row.push_back(before.neighbour[p]);
+    std::sort(new_row.begin(), new_row.end());
+    std::sort(old_row.begin(), old_row.end());
+    ASSERT_EQ(new_row, old_row) << "particle " << k;
+  }
 }
 
 }  // namespace

@@ -1,9 +1,7 @@
 #include "apps/scenes/diffusion_scenes.hpp"
 
-#include <chrono>
 #include <cmath>
 #include <functional>
-#include <iostream>
 #include <sstream>
 
 #include "geometry/lattice.hpp"
@@ -13,9 +11,8 @@
 #include "libsph/core/time_stepper.hpp"
 #include "libsph/diffusion/diffusion_operator.hpp"
 #include "libsph/diffusion/diffusion_system.hpp"
-#include "libsph/io/particle_output.hpp"
-#include "libsph/io/progress.hpp"
-#include "libsph/io/time_series.hpp"
+#include "libsph/core/point_probes.hpp"
+#include "libsph/io/run_harness.hpp"
 
 namespace cardiosph {
 namespace {
@@ -79,49 +76,35 @@ void run_diffusion_problem(const DiffusionProblem& problem, RunContext& ctx) {
   };
   const double initial_amount = total_amount();
 
-  // Observers: Shepard interpolation of C at the probe points from the particles around them.
-  const auto probe_relation = sph::build_contact_relation<2>(problem.probes, body.position, kernel, h);
-  std::vector<std::string> columns{"time"};
+  // Time loop: one stage; observers every 1/100 of the run, particles at the output interval.
+  sph::TimeStepper stepper(0, static_cast<Real>(problem.end_time));
+  stepper.add_stage(sph::make_stage("diffusion", [&] { return diffusion.stable_time_step(); },
+                                    [&](Real t, Real dt) { diffusion.advance(t, dt); }));
+  sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, problem.scene, ctx.quiet});
+  run.add_body(body, static_cast<Real>(problem.numerics.output_interval), [&](double t) {
+    for (std::size_t i = 0; i < body.n_particles(); ++i)
+      C_exact[i] = static_cast<Real>(t > 0 ? problem.exact(body.position[i], t) : problem.initial(body.position[i], dp));
+  });
+  run.add_relation("tissue", relation);
+
+  // Observers: C at the probe points by the linear moving-least-squares fit (libsph/core/point_probes.hpp).
+  const sph::PointProbes<2> probes(problem.probes, body.position, body.volume, kernel, h);
+  std::vector<std::string> columns;
   for (std::size_t p = 0; p < problem.probes.size(); ++p) {
     std::ostringstream name;
     name << "P" << p << "(" << problem.probes[p][0] << ";" << problem.probes[p][1] << ")";
     columns.push_back(name.str() + "_concentration");
     columns.push_back(name.str() + "_exact");
   }
-  sph::TimeSeriesCsv observers(ctx.output_dir / "observers.csv", columns);
-  auto record_observers = [&](double t) {
-    std::vector<double> row{t};
-    for (std::size_t p = 0; p < problem.probes.size(); ++p) {
-      double weighted = 0, weight = 0;
-      for (std::size_t k = probe_relation.offsets[p]; k < probe_relation.offsets[p + 1]; ++k) {
-        const auto j = probe_relation.neighbour[k];
-        weighted += body.volume[j] * probe_relation.kernel_value[k] * C[j];
-        weight += body.volume[j] * probe_relation.kernel_value[k];
-      }
-      row.push_back(weight > 0 ? weighted / weight : std::nan(""));
-      row.push_back(t > 0 ? problem.exact(problem.probes[p], t) : problem.initial(problem.probes[p], dp));
+  run.add_time_series("observers.csv", columns, static_cast<Real>(problem.end_time / 100), [&](const sph::StepInfo& s) {
+    std::vector<double> row;
+    for (std::size_t p = 0; p < probes.size(); ++p) {
+      row.push_back(probes.sample(p, C));
+      row.push_back(s.time > 0 ? problem.exact(problem.probes[p], s.time) : problem.initial(problem.probes[p], dp));
     }
-    observers.record(row);
-  };
-
-  sph::ParticleOutput<2> output(ctx.output_dir, "tissue");
-  auto write_state = [&](double t) {
-    for (std::size_t i = 0; i < body.n_particles(); ++i)
-      C_exact[i] = static_cast<Real>(t > 0 ? problem.exact(body.position[i], t) : problem.initial(body.position[i], dp));
-    output.write(body, t);
-  };
-
-  // Time loop: one stage; observers every 1/100 of the run, particles at the output interval.
-  sph::TimeStepper stepper(0, static_cast<Real>(problem.end_time));
-  stepper.add_stage({"diffusion", [&] { return diffusion.stable_time_step(); },
-                     [&](Real t, Real dt) { diffusion.advance(t, dt); }, false});
-  const double output_interval = problem.numerics.output_interval > 0 ? problem.numerics.output_interval : problem.end_time;
-  stepper.add_periodic_callback(static_cast<Real>(output_interval), [&](const sph::StepInfo& s) { write_state(s.time); });
-  stepper.add_periodic_callback(static_cast<Real>(problem.end_time / 100), [&](const sph::StepInfo& s) { record_observers(s.time); }, false);
-  sph::Progress progress(problem.scene, ctx.quiet);
-  stepper.add_step_callback([&](const sph::StepInfo& s) { progress.update(s); });
-  const std::size_t steps = stepper.run();
-  progress.finish();
+    return row;
+  });
+  run.run();
 
   // Error against the exact solution at the end time.
   double error2 = 0, exact2 = 0, max_abs = 0;
@@ -133,11 +116,6 @@ void run_diffusion_problem(const DiffusionProblem& problem, RunContext& ctx) {
     max_abs = std::max(max_abs, std::abs(difference));
   }
   auto& report = ctx.report;
-  report.simulated_time = problem.end_time;
-  report.steps = steps;
-  report.particles["tissue"] = body.n_particles();
-  report.memory_bytes["tissue_fields"] = body.bytes_per_particle() * body.n_particles();
-  report.memory_bytes["tissue_relation"] = relation.bytes();
   report.results["particle_spacing"] = dp;
   report.results["time_step"] = diffusion.stable_time_step();
   report.results["amount_change_relative"] = (total_amount() - initial_amount) / initial_amount;

@@ -7,7 +7,7 @@
 namespace sph {
 
 template <int Dim>
-CellLinkedList<Dim>::CellLinkedList(std::span<const Vec<Dim>> sources, Real search_radius) {
+void CellLinkedList<Dim>::rebuild(std::span<const Vec<Dim>> sources, Real search_radius) {
   if (!(search_radius > 0)) throw std::invalid_argument("cell-linked list: search radius must be positive");
   // A cell a little larger than the search radius guarantees that two points closer than the
   // radius never fall two cells apart, whatever the rounding of (x - origin) / cell_size.
@@ -32,7 +32,7 @@ CellLinkedList<Dim>::CellLinkedList(std::span<const Vec<Dim>> sources, Real sear
                                 " cells; the search radius is far too small for the particle extent");
 
   // Counting sort by cell: count, exclusive scan, fill in index order.
-  std::vector<std::size_t> cell_of(sources.size());
+  cell_of_.resize(sources.size());
   cell_start_.assign(total + 1, 0);
   for (std::size_t i = 0; i < sources.size(); ++i) {
     std::size_t cell = 0, stride = 1;
@@ -42,13 +42,13 @@ CellLinkedList<Dim>::CellLinkedList(std::span<const Vec<Dim>> sources, Real sear
       cell += c * stride;
       stride *= n_cells_[d];
     }
-    cell_of[i] = cell;
+    cell_of_[i] = cell;
     ++cell_start_[cell + 1];
   }
   for (std::size_t c = 0; c < total; ++c) cell_start_[c + 1] += cell_start_[c];
   cell_particles_.resize(sources.size());
-  std::vector<std::size_t> next(cell_start_.begin(), cell_start_.end() - 1);
-  for (std::size_t i = 0; i < sources.size(); ++i) cell_particles_[next[cell_of[i]]++] = static_cast<Index>(i);
+  next_.assign(cell_start_.begin(), cell_start_.end() - 1);
+  for (std::size_t i = 0; i < sources.size(); ++i) cell_particles_[next_[cell_of_[i]]++] = static_cast<Index>(i);
 }
 
 template class CellLinkedList<2>;

@@ -1,7 +1,10 @@
 #pragma once
 // Cell-linked list: source particles binned into cubic cells no smaller than the search radius,
 // so that every neighbour of a point lies in its own cell or one of the 3^Dim - 1 adjacent cells.
-// Particles of a cell are stored contiguously (counting sort), in increasing index order.
+// Particles of a cell are stored contiguously (counting sort), in increasing index order; that order
+// (cells in memory order, then particle index) is also the order particles are sorted in
+// (particle_sorting.hpp). rebuild() reuses the storage: no allocation while the number of cells
+// and particles does not grow.
 
 #include <algorithm>
 #include <array>
@@ -16,7 +19,10 @@ namespace sph {
 template <int Dim>
 class CellLinkedList {
  public:
-  CellLinkedList(std::span<const Vec<Dim>> sources, Real search_radius);
+  CellLinkedList() = default;
+  CellLinkedList(std::span<const Vec<Dim>> sources, Real search_radius) { rebuild(sources, search_radius); }
+  /// Bins `sources` anew, reusing the storage.
+  void rebuild(std::span<const Vec<Dim>> sources, Real search_radius);
 
   /// Calls visit(j) for every source j in the cells around `x` (a superset of the neighbours
   /// within the search radius), in a fixed order: cells in stencil order, sources by index.
@@ -42,6 +48,8 @@ class CellLinkedList {
 
   Real cell_size() const { return cell_size_; }
   std::size_t n_cells() const { return cell_start_.size() - 1; }
+  /// The sources cell by cell (cells in memory order, sources by index within a cell).
+  std::span<const Index> cell_order() const { return cell_particles_; }
 
  private:
   long cell_coordinate(Real x, int d) const {
@@ -55,11 +63,12 @@ class CellLinkedList {
     for (std::size_t k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) visit(cell_particles_[k]);
   }
 
-  Vec<Dim> origin_;
-  Real cell_size_;
+  Vec<Dim> origin_ = Vec<Dim>::Zero();
+  Real cell_size_ = 1;
   std::array<std::size_t, Dim> n_cells_{};
   std::vector<std::size_t> cell_start_;  ///< CSR offsets into cell_particles_, size n_cells + 1
   std::vector<Index> cell_particles_;
+  std::vector<std::size_t> cell_of_, next_;  // scratch of the counting sort
 };
 
 extern template class CellLinkedList<2>;

@@ -14,12 +14,14 @@ void fill_relation(NeighbourList<Dim>& list, std::span<const Vec<Dim>> targets, 
   if (!(h > 0)) throw std::invalid_argument("neighbour relation: smoothing length must be positive");
   const Real support = Kernel::support_radius(h);
   const Real support2 = support * support;
-  const CellLinkedList<Dim> cells(sources, support);
+  list.cells.rebuild(sources, support);
+  const auto& cells = list.cells;
   const std::size_t n = targets.size();
   list.smoothing_length = h;
 
   // Pass 1: count the neighbours of each target.
-  std::vector<std::size_t> count(n);
+  auto& count = list.row_count;
+  count.resize(n);
   parallel_for(n, [&](std::size_t i) {
     std::size_t c = 0;
     cells.for_each_candidate(targets[i], [&](Index j) {
@@ -61,11 +63,24 @@ void fill_relation(NeighbourList<Dim>& list, std::span<const Vec<Dim>> targets, 
 }  // namespace
 
 template <int Dim>
+void rebuild_inner_relation(InnerRelation<Dim>& relation, std::span<const Vec<Dim>> positions,
+                            const AnyKernel<Dim>& kernel, Real smoothing_length) {
+  std::visit([&]<class K>(const K&) { fill_relation<Dim, K>(relation, positions, positions, smoothing_length, true); },
+             kernel);
+}
+
+template <int Dim>
+void rebuild_contact_relation(ContactRelation<Dim>& relation, std::span<const Vec<Dim>> targets,
+                              std::span<const Vec<Dim>> sources, const AnyKernel<Dim>& kernel, Real smoothing_length) {
+  std::visit([&]<class K>(const K&) { fill_relation<Dim, K>(relation, targets, sources, smoothing_length, false); },
+             kernel);
+}
+
+template <int Dim>
 InnerRelation<Dim> build_inner_relation(std::span<const Vec<Dim>> positions, const AnyKernel<Dim>& kernel,
                                         Real smoothing_length) {
   InnerRelation<Dim> relation;
-  std::visit([&]<class K>(const K&) { fill_relation<Dim, K>(relation, positions, positions, smoothing_length, true); },
-             kernel);
+  rebuild_inner_relation<Dim>(relation, positions, kernel, smoothing_length);
   return relation;
 }
 
@@ -73,8 +88,7 @@ template <int Dim>
 ContactRelation<Dim> build_contact_relation(std::span<const Vec<Dim>> targets, std::span<const Vec<Dim>> sources,
                                             const AnyKernel<Dim>& kernel, Real smoothing_length) {
   ContactRelation<Dim> relation;
-  std::visit([&]<class K>(const K&) { fill_relation<Dim, K>(relation, targets, sources, smoothing_length, false); },
-             kernel);
+  rebuild_contact_relation<Dim>(relation, targets, sources, kernel, smoothing_length);
   return relation;
 }
 
@@ -92,6 +106,12 @@ std::vector<std::vector<Index>> brute_force_neighbours(std::span<const Vec<Dim>>
   return rows;
 }
 
+template void rebuild_inner_relation<2>(InnerRelation<2>&, std::span<const Vec<2>>, const AnyKernel<2>&, Real);
+template void rebuild_inner_relation<3>(InnerRelation<3>&, std::span<const Vec<3>>, const AnyKernel<3>&, Real);
+template void rebuild_contact_relation<2>(ContactRelation<2>&, std::span<const Vec<2>>, std::span<const Vec<2>>,
+                                          const AnyKernel<2>&, Real);
+template void rebuild_contact_relation<3>(ContactRelation<3>&, std::span<const Vec<3>>, std::span<const Vec<3>>,
+                                          const AnyKernel<3>&, Real);
 template InnerRelation<2> build_inner_relation<2>(std::span<const Vec<2>>, const AnyKernel<2>&, Real);
 template InnerRelation<3> build_inner_relation<3>(std::span<const Vec<3>>, const AnyKernel<3>&, Real);
 template ContactRelation<2> build_contact_relation<2>(std::span<const Vec<2>>, std::span<const Vec<2>>,

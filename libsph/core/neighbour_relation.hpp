@@ -9,11 +9,18 @@
 // (by default the larger of the two sets' smoothing lengths, as for multi-resolution coupling).
 //
 // Both are built in two passes (count per target, exclusive scan, fill), each target writing only
-// its own row: no atomics, and the same lists for any number of threads.
+// its own row: no atomics, and the same lists for any number of threads. A relation is rebuilt in
+// place (rebuild_*_relation) when its particles move: the cell list, the row offsets and the pair
+// arrays keep their storage, so a rebuild allocates nothing once the pair count stops growing.
+//
+// Distribution: targets and sources are plain position spans, so a partition's relation is built
+// over its owned particles as targets and owned plus ghost particles as sources; no code here
+// assumes that a source is owned (docs/architecture.md).
 
 #include <span>
 #include <vector>
 
+#include "libsph/core/cell_linked_list.hpp"
 #include "libsph/core/kernels.hpp"
 #include "libsph/core/types.hpp"
 
@@ -35,6 +42,10 @@ struct NeighbourList {
   /// Bytes held per stored pair (index and cached kernel data), plus the row offsets.
   static constexpr std::size_t bytes_per_pair = sizeof(Index) + 3 * sizeof(Real) + sizeof(Vec<Dim>);
   std::size_t bytes() const { return n_pairs() * bytes_per_pair + offsets.size() * sizeof(std::size_t); }
+
+  // Reused by rebuilds.
+  CellLinkedList<Dim> cells;
+  std::vector<std::size_t> row_count;
 };
 
 template <int Dim>
@@ -53,6 +64,16 @@ template <int Dim>
 ContactRelation<Dim> build_contact_relation(std::span<const Vec<Dim>> targets, std::span<const Vec<Dim>> sources,
                                             const AnyKernel<Dim>& kernel, Real smoothing_length);
 
+/// Rebuilds the inner relation at new positions, reusing its storage.
+template <int Dim>
+void rebuild_inner_relation(InnerRelation<Dim>& relation, std::span<const Vec<Dim>> positions,
+                            const AnyKernel<Dim>& kernel, Real smoothing_length);
+
+/// Rebuilds the contact relation at new positions, reusing its storage.
+template <int Dim>
+void rebuild_contact_relation(ContactRelation<Dim>& relation, std::span<const Vec<Dim>> targets,
+                              std::span<const Vec<Dim>> sources, const AnyKernel<Dim>& kernel, Real smoothing_length);
+
 /// Brute-force O(N_t N_s) neighbour indices, row by row in increasing source index (for tests).
 template <int Dim>
 std::vector<std::vector<Index>> brute_force_neighbours(std::span<const Vec<Dim>> targets,
@@ -63,6 +84,12 @@ extern template InnerRelation<2> build_inner_relation<2>(std::span<const Vec<2>>
 extern template InnerRelation<3> build_inner_relation<3>(std::span<const Vec<3>>, const AnyKernel<3>&, Real);
 extern template ContactRelation<2> build_contact_relation<2>(std::span<const Vec<2>>, std::span<const Vec<2>>,
                                                              const AnyKernel<2>&, Real);
+extern template void rebuild_inner_relation<2>(InnerRelation<2>&, std::span<const Vec<2>>, const AnyKernel<2>&, Real);
+extern template void rebuild_inner_relation<3>(InnerRelation<3>&, std::span<const Vec<3>>, const AnyKernel<3>&, Real);
+extern template void rebuild_contact_relation<2>(ContactRelation<2>&, std::span<const Vec<2>>, std::span<const Vec<2>>,
+                                                 const AnyKernel<2>&, Real);
+extern template void rebuild_contact_relation<3>(ContactRelation<3>&, std::span<const Vec<3>>, std::span<const Vec<3>>,
+                                                 const AnyKernel<3>&, Real);
 extern template ContactRelation<3> build_contact_relation<3>(std::span<const Vec<3>>, std::span<const Vec<3>>,
                                                              const AnyKernel<3>&, Real);
 

@@ -6,6 +6,7 @@
 // (parallel_sum), which makes them bitwise reproducible for any thread count as well.
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <memory>
 #include <utility>
@@ -53,8 +54,16 @@ void sequential_for(std::size_t n, Body&& body) {
 template <class T, class Term, class Combine>
 T parallel_reduce(std::size_t n, T identity, Term&& term, Combine&& combine) {
   constexpr std::size_t block = 4096;
+  // Up to about a million terms the block results live on the stack (no allocation in a step).
+  constexpr std::size_t stack_blocks = 256;
   const std::size_t n_blocks = (n + block - 1) / block;
-  std::vector<T> partial(n_blocks, identity);
+  std::array<T, stack_blocks> on_stack;
+  std::vector<T> on_heap;
+  T* partial = on_stack.data();
+  if (n_blocks > stack_blocks) {
+    on_heap.assign(n_blocks, identity);
+    partial = on_heap.data();
+  }
   parallel_for(n_blocks, [&](std::size_t b) {
     T value = identity;
     const std::size_t end = std::min(n, (b + 1) * block);
@@ -62,7 +71,7 @@ T parallel_reduce(std::size_t n, T identity, Term&& term, Combine&& combine) {
     partial[b] = value;
   });
   T total = identity;
-  for (const T& p : partial) total = combine(total, p);
+  for (std::size_t b = 0; b < n_blocks; ++b) total = combine(total, partial[b]);
   return total;
 }
 

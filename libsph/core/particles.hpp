@@ -5,7 +5,8 @@
 // the dynamics that needs it (`register_field`), which returns a typed handle; loops fetch the
 // array once through the handle (`field(handle)`) and then index it directly, so there is no string
 // lookup inside a particle loop and a scene pays only for the fields its dynamics use. The name of a
-// field is its label for output only.
+// field is its label for output only. permute() reorders every particle's entries together (for
+// sorting along the cell list, particle_sorting.hpp).
 
 #include <memory>
 #include <span>
@@ -18,6 +19,15 @@
 
 namespace sph {
 
+/// values[k] = old values[order[k]], through `scratch` (which keeps its storage for the next call).
+template <class T>
+void permute_values(std::vector<T>& values, std::span<const Index> order, std::vector<T>& scratch) {
+  if (order.size() != values.size()) throw std::invalid_argument("permutation of the wrong length");
+  scratch.resize(values.size());
+  for (std::size_t k = 0; k < order.size(); ++k) scratch[k] = values[order[k]];
+  values.swap(scratch);
+}
+
 /// Type-erased base of one field array (output and bookkeeping only, never in a hot loop).
 class FieldArrayBase {
  public:
@@ -29,6 +39,8 @@ class FieldArrayBase {
   virtual const std::type_info& value_type() const = 0;
   virtual std::size_t size() const = 0;
   virtual std::size_t bytes_per_particle() const = 0;
+  /// values[k] = old values[order[k]] for every k.
+  virtual void permute(std::span<const Index> order) = 0;
 
  private:
   std::string name_;
@@ -43,7 +55,11 @@ class FieldArray final : public FieldArrayBase {
   const std::type_info& value_type() const override { return typeid(T); }
   std::size_t size() const override { return values.size(); }
   std::size_t bytes_per_particle() const override { return sizeof(T); }
+  void permute(std::span<const Index> order) override { permute_values(values, order, scratch_); }
   std::vector<T> values;
+
+ private:
+  std::vector<T> scratch_;
 };
 
 /// Typed handle to a registered field; cheap to copy, valid for the particle set that issued it.
@@ -109,12 +125,25 @@ class ParticleSet {
     return bytes;
   }
 
+  /// Reorders the particles: particle k becomes the old particle order[k], in the positions, the
+  /// volumes and every field. Relations and particle indices held elsewhere (constraints, probes)
+  /// refer to the old order and must be rebuilt.
+  void permute(std::span<const Index> order) {
+    if (order.size() != n_particles())
+      throw std::invalid_argument("particle set '" + name_ + "': permutation of the wrong length");
+    permute_values(position, order, position_scratch_);
+    permute_values(volume, order, volume_scratch_);
+    for (auto& f : fields_) f->permute(order);
+  }
+
   std::vector<VecD> position;  ///< current position [length unit of the scene]
   std::vector<Real> volume;    ///< particle volume [length^Dim]
 
  private:
   std::string name_;
   std::vector<std::unique_ptr<FieldArrayBase>> fields_;
+  std::vector<VecD> position_scratch_;
+  std::vector<Real> volume_scratch_;
 };
 
 }  // namespace sph

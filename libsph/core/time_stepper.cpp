@@ -7,6 +7,73 @@
 #include <stdexcept>
 
 namespace sph {
+namespace {
+
+// A quotient that is a whole number up to round-off must not cost an extra step.
+constexpr Real rounding = Real(16) * std::numeric_limits<Real>::epsilon();
+
+Real checked_stable_step(const Stage& stage, Real time) {
+  const Real s = stage.stable_time_step();
+  if (!(s > 0) || !std::isfinite(s)) {
+    std::ostringstream msg;
+    msg << "time-step collapse in stage '" << stage.name << "' at time " << time << ": stable step " << s;
+    throw std::runtime_error(msg.str());
+  }
+  return s;
+}
+
+/// Number of equal steps of at most `stable` that cover `remaining`.
+Real step_count(Real remaining, Real stable) {
+  return std::max(Real(1), std::ceil(remaining / stable * (Real(1) - rounding)));
+}
+
+}  // namespace
+
+Stage& Stage::then(std::string phase_name, StepAction action) {
+  phases.push_back({std::move(phase_name), std::move(action), {}});
+  return *this;
+}
+
+Stage& Stage::sub_cycle(Stage nested) {
+  Phase phase{nested.name, {}, {}};
+  phase.nested.push_back(std::move(nested));
+  phases.push_back(std::move(phase));
+  return *this;
+}
+
+void Stage::run_step(Real time, Real dt) const {
+  for (const auto& phase : phases) {
+    if (phase.nested.empty()) {
+      phase.action(time, dt);
+      continue;
+    }
+    const Stage& inner = phase.nested.front();
+    if (!inner.stable_time_step) {
+      inner.run_step(time, dt);
+      continue;
+    }
+    // Sub-steps re-sized before each one from the stable step now; the last ends exactly at time + dt.
+    const Real end = time + dt;
+    Real s = time;
+    for (;;) {
+      const Real remaining = end - s;
+      const Real n = step_count(remaining, checked_stable_step(inner, s));
+      if (n <= 1) {
+        inner.run_step(s, remaining);
+        break;
+      }
+      const Real sub = remaining / n;
+      inner.run_step(s, sub);
+      s += sub;
+    }
+  }
+}
+
+Stage make_stage(std::string name, std::function<Real()> stable_time_step, StepAction advance) {
+  Stage stage{name, std::move(stable_time_step), {}};
+  stage.then(std::move(name), std::move(advance));
+  return stage;
+}
 
 TimeStepper::TimeStepper(Real start_time, Real end_time) : start_time_(start_time), end_time_(end_time) {
   if (!(end_time >= start_time)) throw std::invalid_argument("time stepper: end time before start time");
@@ -16,37 +83,46 @@ void TimeStepper::add_stage(Stage stage) { stages_.push_back(std::move(stage)); 
 
 void TimeStepper::set_coupling_interval(Real interval) { coupling_interval_ = interval; }
 
-void TimeStepper::add_periodic_callback(Real interval, std::function<void(const StepInfo&)> callback,
-                                        bool hit_exactly) {
-  if (!(interval > 0)) throw std::invalid_argument("time stepper: callback interval must be positive");
-  periodic_.push_back({interval, 0, -std::numeric_limits<Real>::infinity(), hit_exactly, std::move(callback)});
+void TimeStepper::add_event(std::string name, EventTimes times, std::function<void(const StepInfo&)> action) {
+  if (!(times.interval > 0) || !std::isfinite(times.interval))
+    throw std::invalid_argument("time stepper: the interval of '" + name + "' must be positive");
+  const std::size_t first = times.at_start ? 0 : 1;
+  periodic_.push_back({std::move(name), times, first, -std::numeric_limits<Real>::infinity(), std::move(action)});
+}
+
+void TimeStepper::add_periodic_callback(Real interval, std::function<void(const StepInfo&)> callback, bool hit_exactly) {
+  add_event("callback", {interval, hit_exactly, true, true}, std::move(callback));
 }
 
 void TimeStepper::add_step_callback(std::function<void(const StepInfo&)> callback) {
   step_callbacks_.push_back(std::move(callback));
 }
 
+Real TimeStepper::event_time(const Periodic& p, std::size_t k) const {
+  return start_time_ + static_cast<Real>(k) * p.times.interval;
+}
+
 Real TimeStepper::next_event_time() const {
   Real next = end_time_;
   for (const auto& p : periodic_)
-    if (p.hit_exactly) next = std::min(next, start_time_ + static_cast<Real>(p.next_index) * p.interval);
+    if (p.times.hit_exactly) next = std::min(next, event_time(p, p.next_index));
   return next;
 }
 
 std::size_t TimeStepper::run() {
-  // A quotient that is a whole number up to round-off must not cost an extra step.
-  constexpr Real rounding = Real(16) * std::numeric_limits<Real>::epsilon();
   StepInfo info{start_time_, 0, 0, start_time_, end_time_};
-  // Fires the callbacks whose event time has been reached; at the end time every callback fires
-  // once more unless it already ran there, so the final state is always seen.
+  // Fires what is due at time t: events whose time has been reached (a sampling event within a
+  // billionth of its interval counts as reached, so an accumulated time one rounding short of the
+  // grid does not delay it a step), and at the end time every event that asks for it once more.
   auto fire_due = [&](Real t) {
     const bool at_end = t >= end_time_;
     for (auto& p : periodic_) {
-      const Real event = start_time_ + static_cast<Real>(p.next_index) * p.interval;
-      if (event <= t || (at_end && p.last_fired < end_time_)) {
+      const Real tolerance = p.times.hit_exactly ? Real(0) : Real(1e-9) * p.times.interval;
+      const bool due = event_time(p, p.next_index) <= t + tolerance;
+      if (due || (at_end && p.times.at_end && p.last_fired < end_time_)) {
         p.callback(info);
         p.last_fired = t;
-        while (start_time_ + static_cast<Real>(p.next_index) * p.interval <= t) ++p.next_index;
+        while (event_time(p, p.next_index) <= t + tolerance) ++p.next_index;
       }
     }
   };
@@ -56,34 +132,15 @@ std::size_t TimeStepper::run() {
   while (t < end_time_) {
     const Real event = next_event_time();
     Real stable = std::numeric_limits<Real>::infinity();
-    for (const auto& stage : stages_) {
-      const Real s = stage.stable_time_step();
-      if (!(s > 0) || !std::isfinite(s)) {
-        std::ostringstream msg;
-        msg << "time-step collapse in stage '" << stage.name << "' at time " << t << ": stable step " << s;
-        throw std::runtime_error(msg.str());
-      }
-      if (!stage.sub_cycled) stable = std::min(stable, s);
-    }
+    for (const auto& stage : stages_)
+      if (stage.stable_time_step) stable = std::min(stable, checked_stable_step(stage, t));
     if (coupling_interval_ > 0) stable = std::min(stable, coupling_interval_);
     // Even out the steps up to the next event: n = ceil(remaining / stable) equal steps.
     const Real remaining = event - t;
     Real dt = remaining;
-    if (std::isfinite(stable) && remaining > stable) {
-      const Real n = std::ceil(remaining / stable * (Real(1) - rounding));
-      dt = remaining / n;
-    }
+    if (std::isfinite(stable) && remaining > stable) dt = remaining / step_count(remaining, stable);
     const bool reaches_event = dt >= remaining;
-    for (const auto& stage : stages_) {
-      if (!stage.sub_cycled) {
-        stage.advance(t, dt);
-        continue;
-      }
-      const Real s = stage.stable_time_step();
-      const auto n_sub = static_cast<std::size_t>(std::max(Real(1), std::ceil(dt / s * (Real(1) - rounding))));
-      const Real sub = dt / static_cast<Real>(n_sub);
-      for (std::size_t k = 0; k < n_sub; ++k) stage.advance(t + static_cast<Real>(k) * sub, sub);
-    }
+    for (const auto& stage : stages_) stage.run_step(t, dt);
     t = reaches_event ? event : t + dt;
     info.time = t;
     info.time_step = dt;

@@ -1,14 +1,33 @@
 #pragma once
-// The time loop of every scene. Scenes declare stages (a named advance with its own stable step)
-// and callbacks (output, observers, progress); they do not write loops.
+// The time loop of every scene. Scenes declare stages, events and callbacks; they do not write loops.
 //
-// Each macro step has the size
-//   dt = min( stable steps of the stages that are not sub-cycled, coupling_interval,
-//             time left to the next event ),
-// and every stage advances over [t, t + dt] in order; a sub-cycled stage splits dt into
-// ceil(dt / its stable step) equal sub-steps. Events (callback times and the end time) are hit
-// exactly: time is start + k * interval, never an accumulated sum, and the steps before an event
-// are evened out so that no sliver of a step is left. Callbacks at t = start run before any step.
+// A stage is one level of the loop: it takes steps no larger than its own stable step and, within
+// each of its steps [t, t + dt], runs its phases in order. A phase is either an action over the
+// whole step (`then`) or a nested stage (`sub_cycle`) that covers [t, t + dt] in sub-steps of its
+// own. Nesting has no depth limit, so dual-criteria fluid stepping (an advection step holding
+// acoustic steps, each holding solid sub-steps) or EP diffusion sub-steps inside a reaction step are
+// declarations:
+//
+//   Stage advection{"advection", advection_step};
+//   Stage acoustic{"acoustic", acoustic_step};
+//   acoustic.then("first half", first_half).sub_cycle(solid_stage).then("second half", second_half);
+//   advection.then("neighbours", rebuild).sub_cycle(std::move(acoustic));
+//   stepper.add_stage(std::move(advection));
+//
+// Step sizes. The macro step of the stepper is
+//   dt = min( stable steps of the top-level stages, coupling_interval, time left to the next event ),
+// evened out before events so that no sliver of a step is left. A nested stage covering [t, t + dt]
+// evaluates its stable step s before every sub-step and takes the next sub-step as
+//   remaining / ceil(remaining / s),
+// so its step follows the state (not fixed once per parent step), the sub-steps left are always
+// equal, and the last ends exactly at t + dt. A stage without a stable step takes its parent's step.
+//
+// Events and callbacks. Times are start + k * interval, never an accumulated sum. An event with
+// hit_exactly shortens the steps to land on its times; without, it runs at the first step at or
+// after each of them (sampling). Periodic work of the physics (the conduction update, neighbour
+// rebuilds, re-sorting) is an event, output and observers are callbacks: both run between macro
+// steps, in the order they were added. By default they also run at the start (before any step) and
+// once at the end time; `EventTimes` turns either off.
 
 #include <cstddef>
 #include <functional>
@@ -27,23 +46,54 @@ struct StepInfo {
   Real end_time = 0;
 };
 
+/// An action over one step of its stage: advance from `time` by dt.
+using StepAction = std::function<void(Real time, Real dt)>;
+
+struct Stage;
+
+/// One entry of a stage's step: an action, or a nested stage (exactly one of the two).
+struct Phase {
+  std::string name;
+  StepAction action;
+  std::vector<Stage> nested;  ///< empty, or the one nested stage
+};
+
 struct Stage {
   std::string name;
-  std::function<Real()> stable_time_step;         ///< largest stable step now
-  std::function<void(Real time, Real dt)> advance;  ///< advance from time by dt
-  bool sub_cycled = false;
+  std::function<Real()> stable_time_step;  ///< largest stable step now; empty: the parent's step
+  std::vector<Phase> phases;
+
+  /// Appends an action over the whole step.
+  Stage& then(std::string phase_name, StepAction action);
+  /// Appends a nested stage that sub-cycles over each step of this one at its own stable step.
+  Stage& sub_cycle(Stage nested);
+  /// Runs this stage over [time, time + dt] (the phases once; nested stages in sub-steps).
+  void run_step(Real time, Real dt) const;
+};
+
+/// A single-action stage: advance(t, dt) at steps of stable_time_step.
+Stage make_stage(std::string name, std::function<Real()> stable_time_step, StepAction advance);
+
+struct EventTimes {
+  Real interval = 0;         ///< > 0
+  bool hit_exactly = true;   ///< shorten steps to land on the times (else: first step at or after)
+  bool at_start = true;      ///< also at the start time, before any step
+  bool at_end = true;        ///< also once at the end time (or where the run stopped)
 };
 
 class TimeStepper {
  public:
   TimeStepper(Real start_time, Real end_time);
 
+  /// Adds a top-level stage: its stable step limits the macro step; it runs once per macro step.
   void add_stage(Stage stage);
-  /// Limits the macro step (the interval at which sub-cycled stages synchronise); 0 = no limit.
+  /// Limits the macro step (the interval at which the top-level stages synchronise); 0 = no limit.
   void set_coupling_interval(Real interval);
-  /// callback(info) at start, start + interval, ..., and at the end time (once). With
-  /// hit_exactly (outputs) the steps are shortened to land on those times; without (observers that
-  /// sample a time series) the callback runs at the first step at or after each of them.
+  /// Periodic work at the given times (see EventTimes); `name` goes into error messages.
+  void add_event(std::string name, EventTimes times, std::function<void(const StepInfo&)> action);
+  /// Output or sampling: callback(info) at start, start + interval, ..., and at the end time
+  /// (once). With hit_exactly (outputs) the steps are shortened to land on those times; without
+  /// (observers that sample a time series) the callback runs at the first step at or after each.
   void add_periodic_callback(Real interval, std::function<void(const StepInfo&)> callback, bool hit_exactly = true);
   /// callback(info) after every macro step.
   void add_step_callback(std::function<void(const StepInfo&)> callback);
@@ -53,6 +103,7 @@ class TimeStepper {
   void stop_after_this_step() { stop_requested_ = true; }
   /// The end time, or the time at which the run was stopped.
   Real end_time() const { return end_time_; }
+  Real start_time() const { return start_time_; }
 
   /// Runs from the start to the end time; returns the number of macro steps. Throws
   /// std::runtime_error if a stage's stable step is not positive and finite (time-step collapse).
@@ -60,13 +111,14 @@ class TimeStepper {
 
  private:
   struct Periodic {
-    Real interval;
+    std::string name;
+    EventTimes times;
     std::size_t next_index;  ///< next event is start + next_index * interval
     Real last_fired;
-    bool hit_exactly;
     std::function<void(const StepInfo&)> callback;
   };
   Real next_event_time() const;
+  Real event_time(const Periodic& p, std::size_t k) const;
 
   Real start_time_, end_time_;
   Real coupling_interval_ = 0;

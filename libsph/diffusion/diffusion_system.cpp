@@ -22,7 +22,14 @@ ScalarDiffusionSystem<Dim>::ScalarDiffusionSystem(ParticleSet<Dim>& particles, c
     throw std::invalid_argument("diffusion on '" + particles_.name() + "': cfl must lie in (0, 1]");
   for (const auto& D : settings_.diffusion_tensor) check_diffusion_tensor<Dim>(D, "diffusion on '" + particles_.name() + "'");
 
-  value_ = particles_.template register_field<Real>(settings_.field_name, Real(0));
+  if (settings_.field.valid()) {
+    if (settings_.field.slot >= particles_.fields().size())
+      throw std::invalid_argument("diffusion on '" + particles_.name() + "': the field handle is not of these particles");
+    value_ = settings_.field;
+    settings_.field_name = particles_.fields()[value_.slot]->name();
+  } else {
+    value_ = particles_.template register_field<Real>(settings_.field_name, Real(0));
+  }
   if (settings_.correction == DiffusionCorrection::gradient) {
     const auto handle = particles_.template register_field<Mat<Dim>>("correction_matrix", Mat<Dim>::Identity(), false);
     compute_correction_matrix<Dim>(relation_, particles_.volume, particles_.field(handle));
@@ -67,10 +74,29 @@ void ScalarDiffusionSystem<Dim>::advance(Real time, Real dt) {
     apply_diffusion<Dim>(relation_, pair_coefficient_, predicted_, predicted_rate_);
     parallel_for(n, [&](std::size_t i) { C[i] += Real(0.5) * dt * (rate_[i] + predicted_rate_[i]); });
   }
+  check_finite(time + dt);
+}
+
+template <int Dim>
+void ScalarDiffusionSystem<Dim>::evaluate_rate() {
+  apply_diffusion<Dim>(relation_, pair_coefficient_, particles_.field(value_), rate_);
+}
+
+template <int Dim>
+void ScalarDiffusionSystem<Dim>::update(Real time, Real dt) {
+  auto C = particles_.field(value_);
+  parallel_for(C.size(), [&](std::size_t i) { C[i] += dt * rate_[i]; });
+  check_finite(time + dt);
+}
+
+template <int Dim>
+void ScalarDiffusionSystem<Dim>::check_finite(Real time) const {
+  const auto C = particles_.field(value_);
+  const std::size_t n = C.size();
   const std::size_t bad = first_index_where(n, [&](std::size_t i) { return !std::isfinite(C[i]); });
   if (bad < n)
     throw NumericalFailure(particles_.name(), bad, NumericalFailure::format_position(particles_.position[bad]),
-                           time + dt, settings_.field_name, "is not finite");
+                           time, settings_.field_name, "is not finite");
 }
 
 template class ScalarDiffusionSystem<2>;

@@ -2,8 +2,13 @@
 // A scalar field that diffuses on a fixed particle set: dC/dt = div(D grad C), no-flux wherever the
 // particle set ends (the pairwise form exchanges C only between particles), explicit time stepping
 // at a fraction `cfl` of the forward-Euler stability limit (diffusion_operator.hpp).
-// Fields it adds to the particle set: the scalar (named by the caller), and with the gradient
-// correction the correction matrix (not written to output).
+// Fields it adds to the particle set: the scalar (named by the caller, unless the caller passes the
+// handle of an existing field), and with the gradient correction the correction matrix (not
+// written to output).
+//
+// Coupled to other bodies (libsph/diffusion/diffusion_contact.hpp), a step is split into phases
+// across the systems: evaluate_rate() on each, the interactions add their exchange to rate(), then
+// update() on each (forward Euler).
 
 #include <string>
 #include <vector>
@@ -23,7 +28,8 @@ template <int Dim>
 class ScalarDiffusionSystem {
  public:
   struct Settings {
-    std::string field_name = "concentration";
+    std::string field_name = "concentration";  ///< the field registered for the scalar
+    FieldHandle<Real> field;                    ///< or an existing field of the particle set (then field_name is unused)
     std::vector<Mat<Dim>> diffusion_tensor;  ///< one (uniform) or one per particle [length^2/time]
     DiffusionCorrection correction = DiffusionCorrection::moment;
     DiffusionIntegrator integrator = DiffusionIntegrator::heun;
@@ -47,6 +53,15 @@ class ScalarDiffusionSystem {
   /// Advances the field from `time` by dt; throws NumericalFailure if a value becomes non-finite.
   void advance(Real time, Real dt);
   const Settings& settings() const { return settings_; }
+  const ParticleSet<Dim>& particles() const { return particles_; }
+
+  // The split step of a system coupled to others (forward Euler).
+  /// rate() = the operator of this body applied to its field.
+  void evaluate_rate();
+  /// dC/dt per particle, to which interactions add.
+  std::span<Real> rate() { return rate_; }
+  /// C += dt rate(); throws NumericalFailure if a value becomes non-finite.
+  void update(Real time, Real dt);
 
  private:
   ParticleSet<Dim>& particles_;
@@ -54,6 +69,7 @@ class ScalarDiffusionSystem {
   Settings settings_;
   FieldHandle<Real> value_;
   void assemble();
+  void check_finite(Real time) const;
 
   std::vector<Mat<Dim>> correction_matrix_;  // gradient correction only
   std::vector<Real> pair_coefficient_;

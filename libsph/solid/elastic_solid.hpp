@@ -135,6 +135,7 @@ class ElasticSolid {
   Real current_sound_speed() const { return current_sound_speed_; }
   const Settings& settings() const { return settings_; }
   ParticleSet<Dim>& particles() { return particles_; }
+  const ParticleSet<Dim>& particles() const { return particles_; }
 
  private:
   struct PrescribedMotion {

@@ -24,7 +24,6 @@
 #include "apps/scenes/solid/solid_run.hpp"
 #include "cardio/cavity.hpp"
 #include "libsph/core/parallel.hpp"
-#include "libsph/io/time_series.hpp"
 
 namespace cardiosph {
 namespace {
@@ -127,7 +126,6 @@ class LandLvScene final : public Scene {
     auto set_tension = [&](double t) { std::fill(T.begin(), T.end(), Real(tension * ramp_factor(t))); };
 
     const Vec3 endo_apex(0, 0, -17), epi_apex(0, 0, -20), mid_apex(0, 0, Real(-18.5));
-    sph::TimeSeriesCsv observers(ctx.output_dir / "observers.csv", {"time", "endo_z", "epi_z", "midwall_z", "lv_volume"});
     double endo_z_at_nine_tenths = std::nan("");
     SolidRunPlan plan;
     plan.scene = "land-lv";
@@ -135,13 +133,14 @@ class LandLvScene final : public Scene {
     plan.end_time = p_.end_time;
     plan.output_interval = p_.numerics.output_interval;
     plan.before_step = [&](Real t, Real dt) { set_tension(double(t + dt / 2)); };
-    plan.sample = [&](const sph::StepInfo& s) {
+    plan.observer_columns = {"endo_z", "epi_z", "midwall_z", "lv_volume"};
+    plan.observers = [&](const sph::StepInfo& s) {
       const double endo = deformed_position_of<3>(solid, kernel, h, endo_apex)[2];
       const double epi = deformed_position_of<3>(solid, kernel, h, epi_apex)[2];
       const double mid = deformed_position_of<3>(solid, kernel, h, mid_apex)[2];
       const double volume = lv.volume(body.position, body.field(solid.deformation_gradient_field()), X);
-      observers.record({s.time, endo, epi, mid, volume});
       if (std::isnan(endo_z_at_nine_tenths) && s.time >= 0.9 * p_.end_time) endo_z_at_nine_tenths = endo;
+      return std::vector<double>{endo, epi, mid, volume};
     };
     set_tension(0);
     run_solid<3>(solid, relation, plan, ctx);

@@ -13,7 +13,6 @@
 #include "apps/scenes/solid/solid_run.hpp"
 #include "geometry/lattice.hpp"
 #include "libsph/core/parallel.hpp"
-#include "libsph/io/time_series.hpp"
 
 namespace cardiosph {
 namespace {
@@ -89,10 +88,9 @@ class MyocardiumCubeScene final : public Scene {
     };
 
     const std::vector<Vec3> corners{{1, 0, 0}, {1, 1, 0}, {1, 0, 1}, {1, 1, 1}};
-    std::vector<std::string> header{"time"};
+    std::vector<std::string> header;
     for (int c = 0; c < 4; ++c)
       for (const char* q : {"ux", "uy", "uz"}) header.push_back("corner" + std::to_string(c) + "_" + q);
-    sph::TimeSeriesCsv observers(ctx.output_dir / "observers.csv", header);
     auto corner_displacements = [&] {
       std::vector<Vec3> u;
       for (const auto& P : corners) u.push_back(deformed_position_of<3>(solid, kernel, h, P) - P);
@@ -104,10 +102,11 @@ class MyocardiumCubeScene final : public Scene {
     plan.body = "cube";
     plan.end_time = p_.end_time;
     plan.output_interval = p_.numerics.output_interval;
-    plan.sample = [&](const sph::StepInfo& s) {
-      std::vector<double> row{double(s.time)};
+    plan.observer_columns = header;
+    plan.observers = [&](const sph::StepInfo&) {
+      std::vector<double> row;
       for (const auto& u : corner_displacements()) row.insert(row.end(), {u[0], u[1], u[2]});
-      observers.record(row);
+      return row;
     };
     // The tension of the step [t, t + dt] is taken at its midpoint, where the stress is evaluated.
     plan.before_step = [&](sph::Real t, sph::Real dt) { set_tension(double(t + dt / 2)); };

@@ -1,13 +1,7 @@
 #include "apps/scenes/electrophysiology/ep_run.hpp"
 
-#include <chrono>
-#include <sstream>
-
-#include "libsph/core/numerical_failure.hpp"
 #include "libsph/core/time_stepper.hpp"
-#include "libsph/io/particle_output.hpp"
-#include "libsph/io/progress.hpp"
-#include "libsph/io/time_series.hpp"
+#include "libsph/io/run_harness.hpp"
 
 namespace cardiosph {
 
@@ -50,62 +44,39 @@ EpTraces run_monodomain(cardio::Monodomain<Dim>& monodomain, sph::ParticleSet<Di
   EpTraces traces;
   traces.potential.resize(probes.size());
 
-  std::vector<std::string> columns{"time"};
+  sph::TimeStepper stepper(0, static_cast<sph::Real>(plan.end_time));
+  stepper.add_stage(monodomain.stage("monodomain"));
+  stepper.add_step_callback([&](const sph::StepInfo& s) {
+    if (plan.every_step) plan.every_step(s);
+    if (plan.stop_when_all_activated && monodomain.all_activated()) stepper.stop_after_this_step();
+  });
+  sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, plan.scene, ctx.quiet});
+  run.add_body(body, static_cast<sph::Real>(plan.output_interval));
+  run.add_relation(plan.body, relation);
+  std::vector<std::string> columns;
   for (std::size_t p = 0; p < probes.size(); ++p)
     columns.push_back((p < plan.probe_names.size() ? plan.probe_names[p] : "P" + std::to_string(p)) + "_potential");
-  sph::TimeSeriesCsv observers(ctx.output_dir / "observers.csv", columns);
-  auto record = [&](double t) {
-    std::vector<double> row{t};
-    traces.time.push_back(t);
+  const double sample = plan.sample_interval > 0 ? plan.sample_interval : plan.end_time / 1000;
+  run.add_time_series("observers.csv", columns, static_cast<sph::Real>(sample), [&](const sph::StepInfo& s) {
+    std::vector<double> row;
+    traces.time.push_back(s.time);
     for (std::size_t p = 0; p < probes.size(); ++p) {
       row.push_back(probes.sample(p, V));
       traces.potential[p].push_back(row.back());
     }
-    observers.record(row);
-  };
-
-  sph::ParticleOutput<Dim> output(ctx.output_dir, plan.body);
-  sph::TimeStepper stepper(0, static_cast<sph::Real>(plan.end_time));
-  stepper.add_stage({"monodomain", [&] { return monodomain.time_step(); },
-                     [&](sph::Real t, sph::Real dt) { monodomain.advance(t, dt); }, false});
-  const double output_interval = plan.output_interval > 0 ? plan.output_interval : plan.end_time;
-  stepper.add_periodic_callback(static_cast<sph::Real>(output_interval),
-                                [&](const sph::StepInfo& s) { output.write(body, s.time); });
-  const double sample = plan.sample_interval > 0 ? plan.sample_interval : plan.end_time / 1000;
-  stepper.add_periodic_callback(static_cast<sph::Real>(sample), [&](const sph::StepInfo& s) { record(s.time); }, false);
-  double time_reached = 0;
-  sph::Progress progress(plan.scene, ctx.quiet);
-  stepper.add_step_callback([&](const sph::StepInfo& s) {
-    time_reached = s.time;
-    if (plan.every_step) plan.every_step(s);
-    progress.update(s);
-    if (plan.stop_when_all_activated && monodomain.all_activated()) stepper.stop_after_this_step();
+    return row;
   });
 
   auto& report = ctx.report;
-  report.particles[plan.body] = body.n_particles();
-  report.memory_bytes[plan.body + "_fields"] = body.bytes_per_particle() * body.n_particles();
-  report.memory_bytes[plan.body + "_relation"] = relation.bytes();
   report.results["time_step"] = monodomain.time_step();
   report.results["diffusion_time_step_limit"] = monodomain.diffusion_time_step();
-  const auto start = std::chrono::steady_clock::now();
-  try {
-    report.steps = stepper.run();
-  } catch (const sph::NumericalFailure&) {
-    progress.finish();
-    report.simulated_time = time_reached;
-    output.write(body, time_reached);  // the state at the failure, for inspection
-    throw;
-  }
-  progress.finish();
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  report.simulated_time = stepper.end_time();
+  run.run();
   const auto& timing = monodomain.timings();
   report.results["reaction_seconds"] = timing.reaction;
   report.results["diffusion_seconds"] = timing.diffusion;
   report.results["diffusion_substeps"] = monodomain.diffusion_substeps();
-  if (seconds > 0 && report.steps > 0)
-    report.results["particle_steps_per_second"] = double(report.steps) * double(body.n_particles()) / seconds;
+  if (run.time_loop_seconds() > 0 && report.steps > 0)
+    report.results["particle_steps_per_second"] = double(report.steps) * double(body.n_particles()) / run.time_loop_seconds();
   return traces;
 }
 

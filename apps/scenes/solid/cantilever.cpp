@@ -4,7 +4,6 @@
 
 #include "apps/scenes/solid/solid_scenes.hpp"
 #include "geometry/lattice.hpp"
-#include "libsph/io/time_series.hpp"
 
 namespace cardiosph {
 namespace {
@@ -70,17 +69,17 @@ class CantileverScene final : public Scene {
       if (body.position[i][0] > 0) v[i] = kick;
 
     const Vec3 tip_point(L, T / 2, T / 2);
-    sph::TimeSeriesCsv observers(ctx.output_dir / "observers.csv", {"time", "tip_x", "tip_y", "tip_z"});
     double max_deflection = 0;
     SolidRunPlan plan;
     plan.scene = "cantilever";
     plan.body = "beam";
     plan.end_time = p_.end_time;
     plan.output_interval = p_.numerics.output_interval;
-    plan.sample = [&](const sph::StepInfo& s) {
+    plan.observer_columns = {"tip_x", "tip_y", "tip_z"};
+    plan.observers = [&](const sph::StepInfo&) {
       const Vec3 tip = deformed_position_of<3>(solid, kernel, h, tip_point);
       max_deflection = std::max(max_deflection, double((tip - tip_point).tail<2>().norm()));
-      observers.record({s.time, tip[0], tip[1], tip[2]});
+      return std::vector<double>{tip[0], tip[1], tip[2]};
     };
     const auto summary = run_solid<3>(solid, relation, plan, ctx);
     const Vec3 tip = deformed_position_of<3>(solid, kernel, h, tip_point);
@@ -153,7 +152,6 @@ class TwistingColumnScene final : public Scene {
       }
       return std::atan2(cross, dot);
     };
-    sph::TimeSeriesCsv observers(ctx.output_dir / "observers.csv", {"time", "top_twist_deg", "hourglass_measure"});
     SolidRunPlan plan;
     plan.scene = "twisting-column";
     plan.body = "column";
@@ -164,10 +162,11 @@ class TwistingColumnScene final : public Scene {
       twist += std::remainder(angle - std::remainder(twist, 2 * M_PI), 2 * M_PI);
       max_twist = std::max(max_twist, std::abs(twist));
     };
-    plan.sample = [&](const sph::StepInfo& s) {
+    plan.observer_columns = {"top_twist_deg", "hourglass_measure"};
+    plan.observers = [&](const sph::StepInfo&) {
       const double measure = solid.hourglass_measure();
       max_measure = std::max(max_measure, measure);
-      observers.record({s.time, twist * 180 / M_PI, measure});
+      return std::vector<double>{twist * 180 / M_PI, measure};
     };
     const auto summary = run_solid<3>(solid, relation, plan, ctx);
     auto& report = ctx.report;

@@ -11,7 +11,6 @@
 
 #include "apps/scenes/solid/solid_scenes.hpp"
 #include "geometry/lattice.hpp"
-#include "libsph/io/time_series.hpp"
 
 namespace cardiosph {
 namespace {
@@ -81,17 +80,17 @@ class LandBeamScene final : public Scene {
     });
 
     const Vec3 point(length, Real(0.5), 1);
-    sph::TimeSeriesCsv observers(ctx.output_dir / "observers.csv", {"time", "x", "y", "z"});
     double z_at_nine_tenths = std::nan("");
     SolidRunPlan plan;
     plan.scene = "land-beam";
     plan.body = "beam";
     plan.end_time = p_.end_time;
     plan.output_interval = p_.numerics.output_interval;
-    plan.sample = [&](const sph::StepInfo& s) {
+    plan.observer_columns = {"x", "y", "z"};
+    plan.observers = [&](const sph::StepInfo& s) {
       const Vec3 x = deformed_position_of<3>(solid, kernel, h, point);
-      observers.record({s.time, x[0], x[1], x[2]});
       if (std::isnan(z_at_nine_tenths) && s.time >= 0.9 * p_.end_time) z_at_nine_tenths = x[2];
+      return std::vector<double>{x[0], x[1], x[2]};
     };
     run_solid<3>(solid, relation, plan, ctx);
     const double tip_z = deformed_position_of<3>(solid, kernel, h, point)[2];

@@ -3,7 +3,6 @@
 
 #include "apps/scenes/solid/solid_scenes.hpp"
 #include "geometry/lattice.hpp"
-#include "libsph/io/time_series.hpp"
 
 namespace cardiosph {
 namespace {
@@ -82,14 +81,14 @@ class OscillatingBeamScene final : public Scene {
     };
     std::vector<double> crossings;  // times where the tip deflection changes sign
     double previous_time = 0, previous_deflection = 0, amplitude = 0;
-    sph::TimeSeriesCsv observers(ctx.output_dir / "observers.csv", {"time", "tip_deflection"});
 
     SolidRunPlan plan;
     plan.scene = "oscillating-beam";
     plan.body = "plate";
     plan.end_time = p_.end_time;
     plan.output_interval = p_.numerics.output_interval;
-    plan.sample = [&](const sph::StepInfo& s) { observers.record({s.time, tip_deflection()}); };
+    plan.observer_columns = {"tip_deflection"};
+    plan.observers = [&](const sph::StepInfo&) { return std::vector<double>{tip_deflection()}; };
     plan.every_step = [&](const sph::StepInfo& s) {
       const double d = tip_deflection();
       amplitude = std::max(amplitude, std::abs(d));

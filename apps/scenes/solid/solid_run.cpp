@@ -4,10 +4,6 @@
 #include <cmath>
 #include <variant>
 
-#include "libsph/core/numerical_failure.hpp"
-#include "libsph/io/particle_output.hpp"
-#include "libsph/io/progress.hpp"
-#include "libsph/io/time_series.hpp"
 
 namespace cardiosph {
 
@@ -35,74 +31,43 @@ template <int Dim>
 SolidRunSummary run_solid(sph::ElasticSolid<Dim>& solid, const sph::NeighbourList<Dim>& relation,
                           const SolidRunPlan& plan, RunContext& ctx) {
   auto& body = solid.particles();
-  const auto end_time = static_cast<sph::Real>(plan.end_time);
-  sph::TimeStepper stepper(0, end_time);
-  stepper.add_stage({"solid", [&] { return solid.stable_time_step(); },
-                     [&](sph::Real t, sph::Real dt) {
-                       if (plan.before_step) plan.before_step(t, dt);
-                       solid.advance(t, dt);
-                     },
-                     false});
+  sph::TimeStepper stepper(0, static_cast<sph::Real>(plan.end_time));
+  stepper.add_stage(sph::make_stage("solid", [&] { return solid.stable_time_step(); }, [&](sph::Real t, sph::Real dt) {
+    if (plan.before_step) plan.before_step(t, dt);
+    solid.advance(t, dt);
+  }));
+  if (plan.every_step) stepper.add_step_callback(plan.every_step);
 
-  sph::ParticleOutput<Dim> output(ctx.output_dir, plan.body);
-  auto write_state = [&](double t) {
-    solid.update_output_fields();
-    output.write(body, t);
-  };
-  const double output_interval = plan.output_interval > 0 ? plan.output_interval : plan.end_time;
-  stepper.add_periodic_callback(static_cast<sph::Real>(output_interval), [&](const sph::StepInfo& s) { write_state(s.time); });
+  sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, plan.scene, ctx.quiet});
+  run.add_body(body, static_cast<sph::Real>(plan.output_interval), [&](double) { solid.update_output_fields(); });
+  run.add_relation(plan.body, relation);
 
   SolidRunSummary summary;
-  sph::TimeSeriesCsv energy_csv(ctx.output_dir / (plan.body + "_energy.csv"), {"time", "kinetic", "strain", "total", "min_J", "max_J"});
   double max_energy = 0;
   std::vector<double> energy_samples;
-  const double sample_interval = plan.sample_interval > 0 ? plan.sample_interval : plan.end_time / 100;
-  stepper.add_periodic_callback(
-      static_cast<sph::Real>(sample_interval),
-      [&](const sph::StepInfo& s) {
-        const auto e = solid.energies();  // also leaves F at the current positions
-        const double low = e.min_jacobian, high = e.max_jacobian;
-        summary.min_jacobian = std::min<double>(summary.min_jacobian, low);
-        summary.max_jacobian = std::max<double>(summary.max_jacobian, high);
-        energy_csv.record({s.time, e.kinetic, e.strain, e.total(), double(low), double(high)});
-        energy_samples.push_back(e.total());
-        max_energy = std::max(max_energy, e.total());
-        if (plan.sample) plan.sample(s);
-      },
-      false);
+  const auto sample_interval = static_cast<sph::Real>(plan.sample_interval > 0 ? plan.sample_interval : plan.end_time / 100);
+  run.add_time_series(plan.body + "_energy.csv", {"kinetic", "strain", "total", "min_J", "max_J"}, sample_interval,
+                      [&](const sph::StepInfo&) {
+                        const auto e = solid.energies();  // also leaves F at the current positions
+                        summary.min_jacobian = std::min<double>(summary.min_jacobian, e.min_jacobian);
+                        summary.max_jacobian = std::max<double>(summary.max_jacobian, e.max_jacobian);
+                        energy_samples.push_back(e.total());
+                        max_energy = std::max(max_energy, e.total());
+                        return std::vector<double>{e.kinetic, e.strain, e.total(), double(e.min_jacobian),
+                                                   double(e.max_jacobian)};
+                      });
+  if (!plan.observer_columns.empty()) run.add_time_series("observers.csv", plan.observer_columns, sample_interval, plan.observers);
 
-  double last_good_time = 0;
-  sph::Progress progress(plan.scene, ctx.quiet);
-  stepper.add_step_callback([&](const sph::StepInfo& s) {
-    last_good_time = s.time;
-    if (plan.every_step) plan.every_step(s);
-    progress.update(s);
-  });
-
-  auto& report = ctx.report;
-  report.simulated_time = plan.end_time;
-  report.particles[plan.body] = body.n_particles();
-  report.memory_bytes[plan.body + "_fields"] = body.bytes_per_particle() * body.n_particles();
-  report.memory_bytes[plan.body + "_relation"] = relation.bytes();
-  report.results["initial_time_step"] = solid.stable_time_step();
-  try {
-    summary.steps = stepper.run();
-  } catch (const sph::NumericalFailure&) {
-    progress.finish();
-    write_state(last_good_time);  // the solid restored the last good state
-    report.simulated_time = last_good_time;
-    throw;
-  }
-  progress.finish();
-  report.steps = summary.steps;
+  ctx.report.results["initial_time_step"] = solid.stable_time_step();
+  summary.steps = run.run();
   if (!energy_samples.empty()) {
     summary.initial_energy = energy_samples.front();
     const double scale = std::max(summary.initial_energy, max_energy);
     for (const double e : energy_samples)
       summary.max_energy_drift = std::max(summary.max_energy_drift, std::abs(e - summary.initial_energy) / scale);
   }
-  report.results["min_jacobian"] = summary.min_jacobian;
-  report.results["max_jacobian"] = summary.max_jacobian;
+  ctx.report.results["min_jacobian"] = summary.min_jacobian;
+  ctx.report.results["max_jacobian"] = summary.max_jacobian;
   return summary;
 }
 

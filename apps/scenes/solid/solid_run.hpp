@@ -1,7 +1,7 @@
 #pragma once
-// What the solid scenes share: their numerical parameters and the run of one elastic body
-// (time loop, particle output, energy series, progress, and on numerical failure the last good
-// state written before the error is passed on).
+// What the solid scenes share: their numerical parameters and the run of one elastic body (its
+// stage and energy series on the run harness of libsph/io/run_harness.hpp, which writes the
+// particles, the observers, progress and, on numerical failure, the last good state).
 
 #include <functional>
 #include <string>
@@ -9,6 +9,7 @@
 
 #include "apps/scenes/scene.hpp"
 #include "libsph/core/time_stepper.hpp"
+#include "libsph/io/run_harness.hpp"
 #include "libsph/solid/elastic_solid.hpp"
 
 namespace cardiosph {
@@ -41,7 +42,8 @@ struct SolidRunPlan {
   double end_time = 0;
   double output_interval = 0;        ///< 0: first and last state only
   double sample_interval = 0;        ///< observers and energies (0: end_time / 100)
-  std::function<void(const sph::StepInfo&)> sample;      ///< observer callback (may be empty)
+  std::vector<std::string> observer_columns;  ///< columns of observers.csv after time (none: no file)
+  sph::RunHarness::Row observers;             ///< their values at a sample time
   std::function<void(const sph::StepInfo&)> every_step;  ///< after every step (may be empty)
   std::function<void(sph::Real time, sph::Real dt)> before_step;  ///< before each step (may be empty)
 };
@@ -53,10 +55,10 @@ struct SolidRunSummary {
   double min_jacobian = 1, max_jacobian = 1;
 };
 
-/// Runs the solid from t = 0 to the end time. Writes <body>_*.vtu + <body>.pvd and <body>_energy.csv
-/// (time, kinetic, strain, total) into ctx.output_dir; fills steps, particles, memory and time
-/// step in ctx.report. On NumericalFailure the restored last good state is written, then the
-/// error is rethrown (the run ends as failed, exit code 1).
+/// Runs the solid from t = 0 to the end time. Writes <body>_*.vtu + <body>.pvd, <body>_energy.csv
+/// (time, kinetic, strain, total, J range) and observers.csv into ctx.output_dir; fills steps,
+/// particles, memory and time step in ctx.report. On NumericalFailure the restored last good state
+/// is written, then the error is rethrown (the run ends as failed, exit code 1).
 template <int Dim>
 SolidRunSummary run_solid(sph::ElasticSolid<Dim>& solid, const sph::NeighbourList<Dim>& relation,
                           const SolidRunPlan& plan, RunContext& ctx);

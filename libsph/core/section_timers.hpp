@@ -1,0 +1,59 @@
+#pragma once
+// Wall time spent in named parts of a run (reaction, diffusion, mechanics, output, ...), for run
+// reports. `timed(name, action)` wraps a stage phase so that its time is added to `name`.
+
+#include <chrono>
+#include <map>
+#include <string>
+#include <utility>
+
+#include "libsph/core/time_stepper.hpp"
+
+namespace sph {
+
+class SectionTimers {
+ public:
+  /// Runs work() and adds its wall time to `name`.
+  template <class Work>
+  void measure(const std::string& name, Work&& work) {
+    Section& section = sections_[name];
+    const auto start = std::chrono::steady_clock::now();
+    std::forward<Work>(work)();
+    section.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ++section.calls;
+  }
+  /// The phase `action`, timed under `name`. The timers must outlive the stage.
+  StepAction timed(const std::string& name, StepAction action) {
+    Section& section = sections_[name];  // std::map keeps the reference valid
+    return [&section, action = std::move(action)](Real time, Real dt) {
+      const auto start = std::chrono::steady_clock::now();
+      action(time, dt);
+      section.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      ++section.calls;
+    };
+  }
+  double seconds(const std::string& name) const {
+    const auto it = sections_.find(name);
+    return it == sections_.end() ? 0.0 : it->second.seconds;
+  }
+  /// Number of timed calls of `name`.
+  std::size_t calls(const std::string& name) const {
+    const auto it = sections_.find(name);
+    return it == sections_.end() ? 0 : it->second.calls;
+  }
+  /// name -> seconds, for report.json.
+  std::map<std::string, double> all() const {
+    std::map<std::string, double> out;
+    for (const auto& [name, section] : sections_) out[name] = section.seconds;
+    return out;
+  }
+
+ private:
+  struct Section {
+    double seconds = 0;
+    std::size_t calls = 0;
+  };
+  std::map<std::string, Section> sections_;
+};
+
+}  // namespace sph
