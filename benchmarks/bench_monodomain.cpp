@@ -21,7 +21,7 @@ void monodomain_step(benchmark::State& state) {
   const auto relation = sph::build_inner_relation<3>(body.position, sph::make_kernel<3>("wendland_c2"), Real(1.3) * dp);
   cardio::Monodomain<3>::Settings settings;
   settings.cell_model = sph::make_cell_model(sph::cell_model_names[static_cast<std::size_t>(state.range(1))]);
-  settings.time_step = Real(0.05);
+  settings.numerics.time_step = Real(0.05);
   settings.diffusion_tensor = {sph::transversely_isotropic_tensor<3>(Real(0.1), Real(0.01), Vec3(1, 0, 0))};
   std::vector<std::size_t> corner;
   for (std::size_t i = 0; i < body.n_particles(); ++i)
@@ -30,8 +30,8 @@ void monodomain_step(benchmark::State& state) {
   cardio::Monodomain<3> monodomain(body, relation, settings);
   Real t = 0;
   for (auto _ : state) {
-    monodomain.advance(t, settings.time_step);
-    t += settings.time_step;
+    monodomain.advance(t, settings.numerics.time_step);
+    t += settings.numerics.time_step;
   }
   state.SetItemsProcessed(state.iterations() * static_cast<long>(body.n_particles()));
   state.SetLabel(std::string(sph::cell_model_names[static_cast<std::size_t>(state.range(1))]));

@@ -21,7 +21,7 @@ void tlsph_step(benchmark::State& state) {
   const auto relation = sph::build_inner_relation<3>(body.position, sph::make_kernel<3>("wendland_c4"), Real(1.3) * dp);
   sph::ElasticSolid<3>::Settings settings;
   settings.material = sph::holzapfel_ogden_2009_kpa<3>(100);
-  settings.hourglass_coefficient = Real(0.1);
+  settings.numerics.hourglass_coefficient = Real(0.1);
   sph::ElasticSolid<3> solid(body, relation, settings);
   solid.clamp(std::vector<sph::Index>{0});
   auto v = body.field(solid.velocity_field());

@@ -5,8 +5,18 @@
 #include <stdexcept>
 
 #include "libsph/core/parallel.hpp"
+#include "libsph/io/parameters.hpp"
 
 namespace cardio {
+
+void declare_parameters(sph::Parameters& p, MonodomainNumerics& n, const std::string& time_unit) {
+  p.add_enum("reaction_scheme", n.scheme, sph::reaction_scheme_names(),
+             "cell integrator: reaction-by-reaction Strang splitting with QSS updates, generalised Rush-Larsen, or "
+             "explicit Euler");
+  p.add("ep_time_step", n.time_step, time_unit, "splitting step of the monodomain (reaction half step, diffusion, reaction half step)",
+        sph::Range::positive());
+  sph::declare_parameters(p, n.diffusion);
+}
 
 namespace {
 template <int Dim>
@@ -15,10 +25,7 @@ typename sph::ScalarDiffusionSystem<Dim>::Settings diffusion_settings(const type
   typename sph::ScalarDiffusionSystem<Dim>::Settings d;
   d.field = potential;  // the cell model's potential, passed on by handle
   d.diffusion_tensor = s.diffusion_tensor;
-  d.correction = s.correction;
-  d.integrator = s.diffusion_integrator;
-  d.cfl = s.diffusion_cfl;
-  d.clip_negative_coefficients = s.clip_negative_coefficients;
+  d.numerics = s.numerics.diffusion;
   return d;
 }
 
@@ -32,7 +39,7 @@ typename Monodomain<Dim>::Reaction Monodomain<Dim>::make_reaction(sph::ParticleS
   return std::visit(
       [&](const auto& model) -> Reaction {
         using M = std::decay_t<decltype(model)>;
-        return sph::ReactionSystem<Dim, M>(particles, model, {settings.scheme, settings.write_states});
+        return sph::ReactionSystem<Dim, M>(particles, model, {settings.numerics.scheme, settings.write_states});
       },
       settings.cell_model);
 }
@@ -44,7 +51,7 @@ Monodomain<Dim>::Monodomain(sph::ParticleSet<Dim>& particles, const sph::InnerRe
       reaction_(make_reaction(particles, settings_)),
       diffusion_(particles, relation,
                  diffusion_settings<Dim>(settings_, std::visit([](const auto& r) { return r.potential_field(); }, reaction_))) {
-  if (!(settings_.time_step > 0 && std::isfinite(settings_.time_step)))
+  if (!(settings_.numerics.time_step > 0 && std::isfinite(settings_.numerics.time_step)))
     throw std::invalid_argument("monodomain on '" + particles.name() + "': the time step must be positive");
   const std::size_t n = particles.n_particles();
   for (const auto& region : settings_.stimuli)
@@ -61,7 +68,7 @@ Monodomain<Dim>::Monodomain(sph::ParticleSet<Dim>& particles, const sph::InnerRe
 
 template <int Dim>
 sph::Stage Monodomain<Dim>::stage(std::string name) {
-  sph::Stage step{std::move(name), [this] { return settings_.time_step; }, {}};
+  sph::Stage step{std::move(name), [this] { return settings_.numerics.time_step; }, {}};
   sph::Stage diffusion{"diffusion", [this] { return diffusion_.stable_time_step(); }, {}};
   diffusion.then("diffusion", [this](Real t, Real dt) {
     const auto start = std::chrono::steady_clock::now();

@@ -37,6 +37,20 @@ inline Real monodomain_diffusivity(double sigma, double chi, double capacitance)
   return static_cast<Real>(sigma / (chi * capacitance));
 }
 
+/// The numerical choices of the monodomain (independent of the dimension). Scenes bind these members
+/// directly as parameters through declare_parameters.
+struct MonodomainNumerics {
+  sph::ReactionScheme scheme = sph::ReactionScheme::rbr_qss;
+  Real time_step = Real(0.05);  ///< splitting step [ms]
+  /// The diffusion sub-steps: forward Euler at 0.9 of the stability limit by default.
+  sph::DiffusionNumerics diffusion{sph::DiffusionCorrection::moment, sph::DiffusionIntegrator::forward_euler, Real(0.9),
+                                   false};
+};
+
+/// Declares reaction_scheme, ep_time_step [time_unit] and the diffusion parameters
+/// (sph::declare_parameters of DiffusionNumerics).
+void declare_parameters(sph::Parameters& p, MonodomainNumerics& numerics, const std::string& time_unit);
+
 template <int Dim>
 class Monodomain {
  public:
@@ -47,16 +61,11 @@ class Monodomain {
   };
   struct Settings {
     sph::AnyCellModel cell_model = sph::AlievPanfilov{};
-    sph::ReactionScheme scheme = sph::ReactionScheme::rbr_qss;
-    Real time_step = Real(0.05);                   ///< splitting step [ms]
+    MonodomainNumerics numerics;
     std::vector<sph::Mat<Dim>> diffusion_tensor;   ///< D [mm^2/ms], one (uniform) or one per particle
     /// D_l along and D_t across the fibres [mm^2/ms], for conduction that follows a deforming
     /// tissue (the interaction with the solid, cardio/electromechanics.hpp); 0 when unused.
     Real longitudinal_diffusivity = 0, transverse_diffusivity = 0;
-    sph::DiffusionCorrection correction = sph::DiffusionCorrection::moment;
-    sph::DiffusionIntegrator diffusion_integrator = sph::DiffusionIntegrator::forward_euler;
-    Real diffusion_cfl = Real(0.9);                ///< fraction of the diffusion stability limit
-    bool clip_negative_coefficients = false;       ///< see sph::ScalarDiffusionSystem::Settings
     Real activation_threshold = 0;                 ///< V of the upstroke that marks activation [mV]
     std::vector<StimulusRegion> stimuli;
     bool write_states = false;                     ///< write every cell state variable to output
@@ -72,7 +81,7 @@ class Monodomain {
   Monodomain& operator=(const Monodomain&) = delete;
 
   /// The splitting step (the reaction schemes of the cell models are stable at any step).
-  Real time_step() const { return settings_.time_step; }
+  Real time_step() const { return settings_.numerics.time_step; }
   /// The diffusion sub-step limit (cfl times the forward-Euler limit of the assembled operator).
   Real diffusion_time_step() const { return diffusion_.stable_time_step(); }
   /// Replaces the diffusion tensors (one, or one per particle) and reassembles the operator.

@@ -59,7 +59,7 @@ TEST(Allocations, TlsphStepWithActiveStressAllocatesNothing) {
   const auto relation = sph::build_inner_relation<3>(body.position, kernel, Real(0.13));
   sph::ElasticSolid<3>::Settings settings;
   settings.material = sph::holzapfel_ogden_2009_kpa<3>(Real(100));
-  settings.hourglass_coefficient = Real(0.1);
+  settings.numerics.hourglass_coefficient = Real(0.1);
   settings.damping_rate = Real(0.1);
   settings.active_stress = true;
   sph::ElasticSolid<3> solid(body, relation, settings);

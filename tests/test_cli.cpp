@@ -96,7 +96,7 @@ TEST_F(Cli, UnknownKeyInConfigIsRejected) {
                   "unknown parameter 'numerics.cfl'");
 }
 TEST_F(Cli, OutOfRangeValueInConfigIsRejected) {
-  expect_rejected({"diffusion", "--config", write("c.json", "{\"cfl\": 1.5}").string()}, "c.json");
+  expect_rejected({"diffusion", "--config", write("c.json", "{\"diffusion_cfl\": 1.5}").string()}, "c.json");
 }
 TEST_F(Cli, ForeignOutputFolderIsNotOverwritten) {
   const fs::path out = folder_ / "mine";
@@ -107,7 +107,7 @@ TEST_F(Cli, ForeignOutputFolderIsNotOverwritten) {
 }
 
 TEST_F(Cli, RunWritesTheContractFiles) {
-  const fs::path config = write("c.toml", "diffusivity = 2e-4\nintegrator = \"forward_euler\"\n");
+  const fs::path config = write("c.toml", "diffusivity = 2e-4\ndiffusion_integrator = \"forward_euler\"\n");
   const fs::path out = folder_ / "run";
   ASSERT_EQ(run({"diffusion", "--output", out.string(), "--config", config.string(), "--resolution", "20", "--end-time",
                  "2", "--set", "output_interval=1", "--threads", "2", "--quiet"}),

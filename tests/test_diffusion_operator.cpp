@@ -79,9 +79,9 @@ TEST(DiffusionOperator, ConservesTheTotalAndIsStableAtItsLimit) {
     auto particles = geometry::lattice_box<2>("box", sph::Vec<2>::Zero(), sph::Vec<2>::Ones(), dp);
     sph::ScalarDiffusionSystem<2>::Settings settings;
     settings.diffusion_tensor = {anisotropic_tensor<2>()};
-    settings.correction = correction;
-    settings.integrator = sph::DiffusionIntegrator::forward_euler;
-    settings.cfl = 1.0;  // exactly at the computed limit
+    settings.numerics.correction = correction;
+    settings.numerics.integrator = sph::DiffusionIntegrator::forward_euler;
+    settings.numerics.cfl = 1.0;  // exactly at the computed limit
     sph::ScalarDiffusionSystem<2> diffusion(particles, relation, settings);
     auto C = particles.field(diffusion.value_field());
     // A checkerboard excites the highest-frequency mode, the first to blow up beyond the limit.
@@ -104,7 +104,7 @@ TEST(DiffusionOperator, BlowUpIsDetectedAndNamed) {
   const auto relation = sph::build_inner_relation<2>(body.position, sph::WendlandC2<2>{}, 1.3 * dp);
   sph::ScalarDiffusionSystem<2>::Settings settings;
   settings.diffusion_tensor = {sph::Mat<2>::Identity()};
-  settings.integrator = sph::DiffusionIntegrator::forward_euler;
+  settings.numerics.integrator = sph::DiffusionIntegrator::forward_euler;
   sph::ScalarDiffusionSystem<2> diffusion(body, relation, settings);
   auto C = body.field(diffusion.value_field());
   for (std::size_t i = 0; i < C.size(); ++i) C[i] = (i % 2) ? 1.0 : 0.0;

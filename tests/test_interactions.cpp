@@ -39,8 +39,8 @@ struct Block {
   static sph::ScalarDiffusionSystem<2>::Settings settings(Real diffusivity) {
     sph::ScalarDiffusionSystem<2>::Settings s;
     s.diffusion_tensor = {diffusivity * sph::Mat<2>::Identity()};
-    s.correction = sph::DiffusionCorrection::none;  // required by the contact exchange
-    s.integrator = sph::DiffusionIntegrator::forward_euler;
+    s.numerics.correction = sph::DiffusionCorrection::none;  // required by the contact exchange
+    s.numerics.integrator = sph::DiffusionIntegrator::forward_euler;
     return s;
   }
   /// A stage at this block's stable step.

@@ -62,8 +62,8 @@ TEST(MonodomainStability, AnisotropicFrontHasNoOvershootBeyondOnePercent) {
   sph::ScalarDiffusionSystem<2>::Settings settings;
   settings.field_name = "transmembrane_potential";
   settings.diffusion_tensor = {very_anisotropic()};
-  settings.integrator = sph::DiffusionIntegrator::forward_euler;
-  settings.cfl = 1;
+  settings.numerics.integrator = sph::DiffusionIntegrator::forward_euler;
+  settings.numerics.cfl = 1;
   sph::ScalarDiffusionSystem<2> diffusion(body, relation, settings);
   auto V = body.field(diffusion.value_field());
   for (std::size_t i = 0; i < V.size(); ++i) V[i] = body.position[i][0] + body.position[i][1] < 1 ? -80 : 20;
@@ -91,8 +91,8 @@ TEST(MonodomainStability, AbsurdStimulusIsBoundedOrFlaggedNeverNaN) {
       const auto relation = sph::build_inner_relation<2>(body.position, sph::WendlandC2<2>{}, Real(1.3) * dp);
       cardio::Monodomain<2>::Settings settings;
       settings.cell_model = sph::make_cell_model(name);
-      settings.scheme = scheme;
-      settings.time_step = Real(0.05);
+      settings.numerics.scheme = scheme;
+      settings.numerics.time_step = Real(0.05);
       settings.diffusion_tensor = {Real(0.1) * sph::Mat<2>::Identity()};
       std::vector<std::size_t> corner;
       for (std::size_t i = 0; i < body.n_particles(); ++i)
@@ -130,7 +130,7 @@ TEST(Monodomain, ActivationTimeOfAPlaneWaveGrowsWithDistance) {
   const auto relation = sph::build_inner_relation<2>(body.position, sph::WendlandC2<2>{}, Real(1.3) * dp);
   cardio::Monodomain<2>::Settings settings;
   settings.cell_model = sph::AlievPanfilov{};
-  settings.time_step = Real(0.1);
+  settings.numerics.time_step = Real(0.1);
   settings.diffusion_tensor = {Real(0.1) * sph::Mat<2>::Identity()};
   settings.activation_threshold = -40;
   std::vector<std::size_t> left;

@@ -83,7 +83,7 @@ TEST(SolidStability, TwistingColumnHourglassControl) {
   cardiosph::TwistingColumnParameters p;
   p.resolution = 4;
   const auto with = run_scene(*cardiosph::make_twisting_column_scene(p), "twist_on");
-  p.numerics.hourglass_coefficient = 0;
+  p.numerics.solid.hourglass_coefficient = 0;
   const auto without = run_scene(*cardiosph::make_twisting_column_scene(p), "twist_off");
   std::printf("twisting-column (resolution 4): max twist %.0f deg; hourglass measure max %.3e with alpha = 0.1, %.3e "
               "without; J min %.3f / %.3f\n", result(with, "max_twist_deg"), result(with, "hourglass_measure_max"),
@@ -103,7 +103,7 @@ TEST(SolidStability, HolzapfelOgdenCompressionToHalfLength) {
   settings.material = sph::holzapfel_ogden_2009_kpa<3>(50);
   settings.fiber = Vec3::UnitZ();
   settings.sheet = Vec3::UnitX();
-  settings.hourglass_coefficient = Real(0.1);
+  settings.numerics.hourglass_coefficient = Real(0.1);
   settings.damping_rate = 2;
   sph::ElasticSolid<3> solid(body, relation, settings);
   const Real duration = 10;  // ms, slow compared with the acoustic time (about 0.2 ms)
@@ -149,9 +149,9 @@ TEST(SolidStability, TooLargeTimeStepIsDetected) {
   options.quiet = true;
   options.resolution = "4";
   options.end_time = "0.5";
-  options.assignments = {"time_step=2e-3"};  // about 4 times the acoustic step
+  options.assignments = {"fixed_time_step=2e-3"};  // about 4 times the acoustic step
   const auto result = cardiosph::run_scene("cantilever", options);
-  std::printf("cantilever with time_step = 2e-3 s: exit %d, message: %s\n", result.exit_code, result.report.message.c_str());
+  std::printf("cantilever with fixed_time_step = 2e-3 s: exit %d, message: %s\n", result.exit_code, result.report.message.c_str());
   EXPECT_EQ(result.exit_code, cardiosph::exit_run_failed);
   EXPECT_EQ(result.report.status, "failed");
   for (const char* part : {"body 'beam'", "particle", "time", "at ("})

@@ -22,15 +22,8 @@ using Vec2 = sph::Vec<2>;
 using Mat2 = sph::Mat<2>;
 
 void declare_numerics(sph::Parameters& p, DiffusionNumerics& n) {
-  p.add("smoothing_length_ratio", n.smoothing_length_ratio, "-", "smoothing length over particle spacing h/dp",
-        sph::Range::closed(1.0, 2.5));
-  p.add_choice("kernel", n.kernel, {"wendland_c2", "cubic_spline", "wendland_c4"}, "smoothing kernel");
-  p.add_choice("correction", n.correction, {"moment", "gradient", "none"},
-               "correction of the diffusion operator (moment: exact on quadratics; gradient: kernel-correction matrix B)");
-  p.add_choice("integrator", n.integrator, {"heun", "forward_euler"}, "explicit time integrator");
-  p.add("cfl", n.cfl, "-", "time step as a fraction of the explicit stability limit", {0, 1, true, false});
-  p.add("output_interval", n.output_interval, "s", "time between particle outputs (0: first and last state only)",
-        sph::Range::non_negative());
+  declare_parameters(p, n.discretisation, "s");
+  sph::declare_parameters(p, n.diffusion);
 }
 
 /// What distinguishes the two scenes; the run itself is shared.
@@ -49,22 +42,17 @@ struct DiffusionProblem {
 
 void run_diffusion_problem(const DiffusionProblem& problem, RunContext& ctx) {
   const Real dp = (problem.upper[0] - problem.lower[0]) / static_cast<Real>(problem.resolution);
-  const Real h = static_cast<Real>(problem.numerics.smoothing_length_ratio) * dp;
+  const Real h = static_cast<Real>(problem.numerics.discretisation.smoothing_length_ratio) * dp;
 
   // Particles and initial state.
   auto body = geometry::lattice_box<2>("tissue", problem.lower, problem.upper, dp);
-  const auto kernel = sph::make_kernel<2>(problem.numerics.kernel);
+  const auto kernel = sph::make_kernel<2>(problem.numerics.discretisation.kernel);
   const auto relation = sph::build_inner_relation<2>(body.position, kernel, h);
 
   typename sph::ScalarDiffusionSystem<2>::Settings settings;
   settings.field_name = "concentration";
   settings.diffusion_tensor = {problem.diffusion_tensor};
-  settings.correction = problem.numerics.correction == "moment"     ? sph::DiffusionCorrection::moment
-                        : problem.numerics.correction == "gradient" ? sph::DiffusionCorrection::gradient
-                                                                    : sph::DiffusionCorrection::none;
-  settings.integrator = problem.numerics.integrator == "heun" ? sph::DiffusionIntegrator::heun
-                                                              : sph::DiffusionIntegrator::forward_euler;
-  settings.cfl = static_cast<Real>(problem.numerics.cfl);
+  settings.numerics = problem.numerics.diffusion;
   sph::ScalarDiffusionSystem<2> diffusion(body, relation, settings);
   auto C = body.field(diffusion.value_field());
   for (std::size_t i = 0; i < body.n_particles(); ++i) C[i] = static_cast<Real>(problem.initial(body.position[i], dp));
@@ -81,7 +69,7 @@ void run_diffusion_problem(const DiffusionProblem& problem, RunContext& ctx) {
   stepper.add_stage(sph::make_stage("diffusion", [&] { return diffusion.stable_time_step(); },
                                     [&](Real t, Real dt) { diffusion.advance(t, dt); }));
   sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, problem.scene, ctx.quiet});
-  run.add_body(body, static_cast<Real>(problem.numerics.output_interval), [&](double t) {
+  run.add_body(body, static_cast<Real>(problem.numerics.discretisation.output_interval), [&](double t) {
     for (std::size_t i = 0; i < body.n_particles(); ++i)
       C_exact[i] = static_cast<Real>(t > 0 ? problem.exact(body.position[i], t) : problem.initial(body.position[i], dp));
   });

@@ -13,18 +13,17 @@
 #include <memory>
 #include <string>
 
+#include "apps/scenes/discretisation.hpp"
 #include "apps/scenes/scene.hpp"
+#include "libsph/diffusion/diffusion_system.hpp"
 
 namespace cardiosph {
 
-/// Numerical settings shared by the diffusion scenes.
+/// Numerical settings shared by the diffusion scenes: the discretisation, and the diffusion's own
+/// choices bound directly (libsph/diffusion/diffusion_system.hpp).
 struct DiffusionNumerics {
-  double smoothing_length_ratio = 1.3;  ///< h / dp
-  std::string kernel = "wendland_c2";
-  std::string correction = "moment";  ///< none, gradient or moment (libsph/diffusion/diffusion_operator.hpp)
-  std::string integrator = "heun";
-  double cfl = 0.5;
-  double output_interval = 0;  ///< [s]; 0 writes the first and last state only
+  Discretisation discretisation;  ///< output_interval [s]
+  sph::DiffusionNumerics diffusion;
 };
 
 struct DiffusionBandParameters {

@@ -67,7 +67,7 @@ Real contact_diffusivity(const ScalarDiffusionSystem<Dim>& on, const ScalarDiffu
                          const ContactRelation<Dim>& relation) {
   const auto& on_body = on.particles();
   const auto& by_body = by.particles();
-  if (on.settings().correction != DiffusionCorrection::none || by.settings().correction != DiffusionCorrection::none)
+  if (on.settings().numerics.correction != DiffusionCorrection::none || by.settings().numerics.correction != DiffusionCorrection::none)
     throw std::invalid_argument("diffusion contact between '" + on_body.name() + "' and '" + by_body.name() +
                                 "': both bodies need correction none");
   if (relation.n_targets() != on_body.n_particles())

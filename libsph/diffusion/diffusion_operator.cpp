@@ -12,6 +12,12 @@
 
 namespace sph {
 
+const std::vector<std::pair<std::string, DiffusionCorrection>>& diffusion_correction_names() {
+  static const std::vector<std::pair<std::string, DiffusionCorrection>> names{
+      {"moment", DiffusionCorrection::moment}, {"gradient", DiffusionCorrection::gradient}, {"none", DiffusionCorrection::none}};
+  return names;
+}
+
 template <int Dim>
 void check_diffusion_tensor(const Mat<Dim>& D, const std::string& what) {
   if (!D.allFinite()) throw std::invalid_argument(what + ": diffusion tensor has a non-finite entry");

@@ -34,6 +34,7 @@
 
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "libsph/core/neighbour_relation.hpp"
@@ -50,6 +51,8 @@ template <int Dim>
 Mat<Dim> transversely_isotropic_tensor(Real longitudinal, Real transverse, const Vec<Dim>& direction);
 
 enum class DiffusionCorrection { none, gradient, moment };
+/// The names of the corrections as parameters take them.
+const std::vector<std::pair<std::string, DiffusionCorrection>>& diffusion_correction_names();
 
 /// Pair coefficients a_ij of the operator above, stored along the relation's pairs.
 /// `diffusion_tensor` holds one tensor (uniform) or one per particle; `correction_matrix` (one per

@@ -8,8 +8,26 @@
 #include "libsph/core/numerical_failure.hpp"
 #include "libsph/core/parallel.hpp"
 #include "libsph/diffusion/diffusion_operator.hpp"
+#include "libsph/io/parameters.hpp"
 
 namespace sph {
+
+const std::vector<std::pair<std::string, DiffusionIntegrator>>& diffusion_integrator_names() {
+  static const std::vector<std::pair<std::string, DiffusionIntegrator>> names{
+      {"heun", DiffusionIntegrator::heun}, {"forward_euler", DiffusionIntegrator::forward_euler}};
+  return names;
+}
+
+void declare_parameters(Parameters& p, DiffusionNumerics& n) {
+  p.add_enum("diffusion_correction", n.correction, diffusion_correction_names(),
+             "correction of the diffusion operator (moment: exact on quadratics; gradient: kernel-correction matrix B; "
+             "libsph/diffusion/diffusion_operator.hpp)");
+  p.add_enum("diffusion_integrator", n.integrator, diffusion_integrator_names(),
+             "explicit integrator of the diffusion (heun: second order; forward_euler: first order, same stability limit)");
+  p.add("diffusion_cfl", n.cfl, "-", "diffusion step as a fraction of its explicit stability limit", {0, 1, true, false});
+  p.add("clip_negative_coefficients", n.clip_negative_coefficients,
+        "clip negative pair coefficients of an anisotropic diffusion (monotone and stable; widens cross-fibre conduction)");
+}
 
 template <int Dim>
 ScalarDiffusionSystem<Dim>::ScalarDiffusionSystem(ParticleSet<Dim>& particles, const InnerRelation<Dim>& relation,
@@ -18,7 +36,7 @@ ScalarDiffusionSystem<Dim>::ScalarDiffusionSystem(ParticleSet<Dim>& particles, c
   const std::size_t n = particles_.n_particles();
   if (relation_.n_targets() != n)
     throw std::invalid_argument("diffusion on '" + particles_.name() + "': relation does not match the particles");
-  if (!(settings_.cfl > 0 && settings_.cfl <= 1))
+  if (!(settings_.numerics.cfl > 0 && settings_.numerics.cfl <= 1))
     throw std::invalid_argument("diffusion on '" + particles_.name() + "': cfl must lie in (0, 1]");
   for (const auto& D : settings_.diffusion_tensor) check_diffusion_tensor<Dim>(D, "diffusion on '" + particles_.name() + "'");
 
@@ -30,7 +48,7 @@ ScalarDiffusionSystem<Dim>::ScalarDiffusionSystem(ParticleSet<Dim>& particles, c
   } else {
     value_ = particles_.template register_field<Real>(settings_.field_name, Real(0));
   }
-  if (settings_.correction == DiffusionCorrection::gradient) {
+  if (settings_.numerics.correction == DiffusionCorrection::gradient) {
     const auto handle = particles_.template register_field<Mat<Dim>>("correction_matrix", Mat<Dim>::Identity(), false);
     compute_correction_matrix<Dim>(relation_, particles_.volume, particles_.field(handle));
     const auto B = particles_.field(handle);
@@ -38,7 +56,7 @@ ScalarDiffusionSystem<Dim>::ScalarDiffusionSystem(ParticleSet<Dim>& particles, c
   }
   assemble();
   rate_.resize(n);
-  if (settings_.integrator == DiffusionIntegrator::heun) {
+  if (settings_.numerics.integrator == DiffusionIntegrator::heun) {
     predicted_.resize(n);
     predicted_rate_.resize(n);
   }
@@ -55,8 +73,8 @@ void ScalarDiffusionSystem<Dim>::set_diffusion_tensor(std::vector<Mat<Dim>> diff
 template <int Dim>
 void ScalarDiffusionSystem<Dim>::assemble() {
   pair_coefficient_ = diffusion_pair_coefficients<Dim>(relation_, particles_.volume, settings_.diffusion_tensor,
-                                                       settings_.correction, correction_matrix_);
-  if (settings_.clip_negative_coefficients)
+                                                       settings_.numerics.correction, correction_matrix_);
+  if (settings_.numerics.clip_negative_coefficients)
     parallel_for(pair_coefficient_.size(), [&](std::size_t k) { pair_coefficient_[k] = std::max(pair_coefficient_[k], Real(0)); });
   step_limit_ = diffusion_time_step_limit<Dim>(relation_, pair_coefficient_);
 }
@@ -66,7 +84,7 @@ void ScalarDiffusionSystem<Dim>::advance(Real time, Real dt) {
   auto C = particles_.field(value_);
   const std::size_t n = C.size();
   apply_diffusion<Dim>(relation_, pair_coefficient_, C, rate_);
-  if (settings_.integrator == DiffusionIntegrator::forward_euler) {
+  if (settings_.numerics.integrator == DiffusionIntegrator::forward_euler) {
     parallel_for(n, [&](std::size_t i) { C[i] += dt * rate_[i]; });
   } else {
     // Heun: predictor C* = C + dt L(C), corrector C += dt/2 (L(C) + L(C*)).

@@ -11,6 +11,7 @@
 // update() on each (forward Euler).
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "libsph/core/neighbour_relation.hpp"
@@ -23,6 +24,26 @@ enum class DiffusionIntegrator {
   forward_euler,  ///< C += dt L(C); first order in time
   heun,           ///< explicit trapezoidal (RK2); second order in time, same stability limit
 };
+/// The names of the integrators as parameters take them.
+const std::vector<std::pair<std::string, DiffusionIntegrator>>& diffusion_integrator_names();
+
+class Parameters;
+
+/// The numerical choices of a diffusing field (independent of the dimension). Scenes bind these
+/// members directly as parameters through declare_parameters.
+struct DiffusionNumerics {
+  DiffusionCorrection correction = DiffusionCorrection::moment;
+  DiffusionIntegrator integrator = DiffusionIntegrator::heun;
+  Real cfl = Real(0.5);  ///< fraction of the stability limit, in (0, 1]
+  /// Set negative pair coefficients to zero. For a strongly anisotropic D (D_l > 3 D_t in 3D) some
+  /// pairs get a_ij < 0 (anti-diffusion along them); on irregular particles or a distorted
+  /// pulled-back tensor the operator can then have growing modes. Clipping makes it an M-matrix
+  /// (monotone, no new extrema) at the cost of a larger effective cross-fibre diffusion.
+  bool clip_negative_coefficients = false;
+};
+
+/// Declares diffusion_correction, diffusion_integrator, diffusion_cfl and clip_negative_coefficients.
+void declare_parameters(Parameters& p, DiffusionNumerics& numerics);
 
 template <int Dim>
 class ScalarDiffusionSystem {
@@ -31,14 +52,7 @@ class ScalarDiffusionSystem {
     std::string field_name = "concentration";  ///< the field registered for the scalar
     FieldHandle<Real> field;                    ///< or an existing field of the particle set (then field_name is unused)
     std::vector<Mat<Dim>> diffusion_tensor;  ///< one (uniform) or one per particle [length^2/time]
-    DiffusionCorrection correction = DiffusionCorrection::moment;
-    DiffusionIntegrator integrator = DiffusionIntegrator::heun;
-    Real cfl = Real(0.5);  ///< fraction of the stability limit, in (0, 1]
-    /// Set negative pair coefficients to zero. For a strongly anisotropic D (D_l > 3 D_t in 3D) some
-    /// pairs get a_ij < 0 (anti-diffusion along them); on irregular particles or a distorted
-    /// pulled-back tensor the operator can then have growing modes. Clipping makes it an M-matrix
-    /// (monotone, no new extrema) at the cost of a larger effective cross-fibre diffusion.
-    bool clip_negative_coefficients = false;
+    DiffusionNumerics numerics;
   };
 
   /// The relation must be the inner relation of `particles` and outlive the system.
@@ -46,7 +60,7 @@ class ScalarDiffusionSystem {
 
   FieldHandle<Real> value_field() const { return value_; }
   /// Stable step: cfl times the forward-Euler limit of the assembled operator.
-  Real stable_time_step() const { return settings_.cfl * step_limit_; }
+  Real stable_time_step() const { return settings_.numerics.cfl * step_limit_; }
   /// Replaces the diffusion tensors (one, or one per particle) and reassembles the operator and its
   /// step limit, e.g. for a tensor pulled back through a deformation.
   void set_diffusion_tensor(std::vector<Mat<Dim>> diffusion_tensor);

@@ -104,6 +104,46 @@ void Parameters::add(const std::string& key, double& value, const std::string& u
   add_entry(std::move(e));
 }
 
+void Parameters::add(const std::string& key, float& value, const std::string& unit, const std::string& help,
+                     Range range) {
+  Entry e{key, unit, help, range, {}, {}, {}, {}, {}};
+  auto check = [key, range, unit](double v, const std::string& origin) {
+    if (!std::isfinite(v) || !range.contains(v))
+      throw ParameterError("parameter " + quoted(key) + where(origin) + " = " + format_number(v) + ": must be " +
+                           range.describe() + (unit.empty() || unit == "-" ? "" : " [" + unit + "]"));
+  };
+  e.parse = [&value, key, check](const std::string& text, const std::string& origin) {
+    const double v = parse_double(key, text, origin);
+    check(v, origin);
+    value = static_cast<float>(v);
+  };
+  e.text = [&value] { return format_number(value); };
+  e.json = [&value] { return nlohmann::json(double(value)); };
+  e.check = [&value, check](const std::string& origin) { check(value, origin); };
+  add_entry(std::move(e));
+}
+
+void Parameters::add(const std::string& key, int& value, const std::string& unit, const std::string& help,
+                     Range range) {
+  Entry e{key, unit, help, range, {}, {}, {}, {}, {}};
+  auto check = [key, range, unit](long v, const std::string& origin) {
+    if (!range.contains(static_cast<double>(v)))
+      throw ParameterError("parameter " + quoted(key) + where(origin) + " = " + std::to_string(v) + ": must be " +
+                           range.describe() + (unit.empty() || unit == "-" ? "" : " [" + unit + "]"));
+  };
+  e.parse = [&value, key, check](const std::string& text, const std::string& origin) {
+    const double v = parse_double(key, text, origin);
+    if (v != std::floor(v) || std::abs(v) > 2e9)
+      throw ParameterError("parameter " + quoted(key) + where(origin) + ": " + quoted(text) + " is not an integer");
+    check(static_cast<long>(v), origin);
+    value = static_cast<int>(v);
+  };
+  e.text = [&value] { return std::to_string(value); };
+  e.json = [&value] { return nlohmann::json(value); };
+  e.check = [&value, check](const std::string& origin) { check(value, origin); };
+  add_entry(std::move(e));
+}
+
 void Parameters::add(const std::string& key, long& value, const std::string& unit, const std::string& help,
                      Range range) {
   Entry e{key, unit, help, range, {}, {}, {}, {}, {}};
@@ -143,6 +183,63 @@ void Parameters::add_text(const std::string& key, std::string& value, const std:
   e.parse = [&value](const std::string& text, const std::string&) { value = text; };
   e.text = [&value] { return value; };
   e.json = [&value] { return nlohmann::json(value); };
+  e.check = [](const std::string&) {};
+  add_entry(std::move(e));
+}
+
+void Parameters::add_path(const std::string& key, std::filesystem::path& value, const std::string& help) {
+  Entry e{key, "", help, Range::any(), {}, {}, {}, {}, {}};
+  e.parse = [&value](const std::string& text, const std::string&) { value = text; };
+  e.text = [&value] { return value.string(); };
+  e.json = [&value] { return nlohmann::json(value.string()); };
+  e.check = [](const std::string&) {};
+  add_entry(std::move(e));
+}
+
+void Parameters::add_vector(const std::string& key, Eigen::Vector3d& value, const std::string& unit,
+                            const std::string& help, bool allow_zero) {
+  Entry e{key, unit, help, Range::any(), {}, {}, {}, {}, {}};
+  auto check = [key, allow_zero](const Eigen::Vector3d& v, const std::string& text, const std::string& origin) {
+    if (!v.allFinite())
+      throw ParameterError("parameter " + quoted(key) + where(origin) + " = " + quoted(text) + ": must be finite");
+    if (!allow_zero && v.norm() == 0)
+      throw ParameterError("parameter " + quoted(key) + where(origin) + " = " + quoted(text) + ": must not be zero");
+  };
+  auto text_of = [&value] {
+    return format_number(value.x()) + "," + format_number(value.y()) + "," + format_number(value.z());
+  };
+  e.parse = [&value, key, check](const std::string& text, const std::string& origin) {
+    std::string t = text;
+    for (char& c : t)
+      if (c == ',') c = ' ';
+    std::istringstream in(t);
+    Eigen::Vector3d v;
+    if (!(in >> v.x() >> v.y() >> v.z()) || !(in >> std::ws).eof())
+      throw ParameterError("parameter " + quoted(key) + where(origin) + " = " + quoted(text) +
+                           ": expected three numbers x,y,z");
+    check(v, text, origin);
+    value = v;
+  };
+  e.text = text_of;
+  e.json = [&value] { return nlohmann::json::array({value.x(), value.y(), value.z()}); };
+  e.check = [&value, check, text_of](const std::string& origin) { check(value, text_of(), origin); };
+  add_entry(std::move(e));
+}
+
+void Parameters::add_named_choice(const std::string& key, std::vector<std::string> choices, const std::string& help,
+                                  std::function<void(std::size_t)> select, std::function<std::string()> current) {
+  Entry e{key, "", help, Range::any(), choices, {}, {}, {}, {}};
+  e.parse = [key, choices, select](const std::string& text, const std::string& origin) {
+    const auto it = std::find(choices.begin(), choices.end(), text);
+    if (it == choices.end()) {
+      std::string list;
+      for (const auto& c : choices) list += (list.empty() ? "" : ", ") + c;
+      throw ParameterError("parameter " + quoted(key) + where(origin) + " = " + quoted(text) + ": must be one of " + list);
+    }
+    select(static_cast<std::size_t>(it - choices.begin()));
+  };
+  e.text = current;
+  e.json = [current] { return nlohmann::json(current()); };
   e.check = [](const std::string&) {};
   add_entry(std::move(e));
 }

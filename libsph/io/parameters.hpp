@@ -1,15 +1,20 @@
 #pragma once
-// Scene parameters: declared once, bound to a member of the scene's typed parameter struct, with
-// a default (the member's value), a unit, a valid range and a help text. Values can then be set from
+// Scene parameters: declared once, bound to a member of the scene's typed parameter struct or
+// directly to a member of a library component's settings (its default is the member's value),
+// with a unit, a valid range and a help text. Enumerated choices are bound to the enum itself
+// (add_enum, with the names the component declares next to the enum), so a choice is parsed once,
+// here, and never compared as a string in a scene. Values can then be set from
 // a config file (TOML or JSON; nested tables give dotted keys) and from the command line
 // (`--set key=value`); an unknown key or a value out of range throws ParameterError naming the key,
 // the value, where it came from and what was expected.
 
+#include <Eigen/Core>
 #include <filesystem>
 #include <functional>
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -43,12 +48,36 @@ class Parameters {
  public:
   void add(const std::string& key, double& value, const std::string& unit, const std::string& help,
            Range range = Range::any());
+  void add(const std::string& key, float& value, const std::string& unit, const std::string& help,
+           Range range = Range::any());
   void add(const std::string& key, long& value, const std::string& unit, const std::string& help,
+           Range range = Range::any());
+  void add(const std::string& key, int& value, const std::string& unit, const std::string& help,
            Range range = Range::any());
   void add(const std::string& key, bool& value, const std::string& help);
   void add_choice(const std::string& key, std::string& value, std::vector<std::string> choices, const std::string& help);
-  /// Free text (a file path, a vector "x,y,z"); the scene checks its meaning.
+  /// Free text; the scene checks its meaning.
   void add_text(const std::string& key, std::string& value, const std::string& help);
+  /// A file or folder path (empty allowed; the scene checks that it exists when it needs it).
+  void add_path(const std::string& key, std::filesystem::path& value, const std::string& help);
+  /// Three numbers "x,y,z" (commas or spaces); zero is rejected unless allow_zero (directions).
+  void add_vector(const std::string& key, Eigen::Vector3d& value, const std::string& unit, const std::string& help,
+                  bool allow_zero = false);
+  /// One of the named values of an enum; `names` lists every value once, e.g. {{"moment", moment}, ...}.
+  template <class E>
+  void add_enum(const std::string& key, E& value, const std::vector<std::pair<std::string, E>>& names,
+                const std::string& help) {
+    std::vector<std::string> choices;
+    for (const auto& [name, v] : names) choices.push_back(name);
+    add_named_choice(
+        key, choices, help,
+        [&value, names](std::size_t k) { value = names[k].second; },
+        [&value, names]() -> std::string {
+          for (const auto& [name, v] : names)
+            if (v == value) return name;
+          return "?";
+        });
+  }
 
   bool has(const std::string& key) const;
   /// Parses `text` for `key` and checks it; `origin` (e.g. "--set", a file name) goes into errors.
@@ -76,6 +105,8 @@ class Parameters {
     std::function<void(const std::string&)> check;  // origin
   };
   Entry& entry(const std::string& key, const std::string& origin);
+  void add_named_choice(const std::string& key, std::vector<std::string> choices, const std::string& help,
+                        std::function<void(std::size_t)> select, std::function<std::string()> current);
   void add_entry(Entry e);
   std::vector<Entry> entries_;
 };

@@ -18,6 +18,8 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Dense>
 
@@ -36,12 +38,12 @@ inline std::string_view to_string(ReactionScheme s) {
   return "?";
 }
 
-/// The scheme named `name`; throws std::invalid_argument naming the input otherwise.
-inline ReactionScheme reaction_scheme_from_string(std::string_view name) {
-  for (auto s : {ReactionScheme::forward_euler, ReactionScheme::rush_larsen, ReactionScheme::rbr_qss})
-    if (to_string(s) == name) return s;
-  throw std::invalid_argument("unknown reaction scheme '" + std::string(name) +
-                              "' (expected forward_euler, rush_larsen or rbr_qss)");
+/// The names of the schemes as parameters take them.
+inline const std::vector<std::pair<std::string, ReactionScheme>>& reaction_scheme_names() {
+  static const std::vector<std::pair<std::string, ReactionScheme>> names{{"rbr_qss", ReactionScheme::rbr_qss},
+                                                                         {"rush_larsen", ReactionScheme::rush_larsen},
+                                                                         {"forward_euler", ReactionScheme::forward_euler}};
+  return names;
 }
 
 template <ReactionModel M>

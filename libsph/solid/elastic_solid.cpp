@@ -8,8 +8,17 @@
 #include "libsph/core/correction_matrix.hpp"
 #include "libsph/core/numerical_failure.hpp"
 #include "libsph/core/parallel.hpp"
+#include "libsph/io/parameters.hpp"
 
 namespace sph {
+
+void declare_parameters(Parameters& p, SolidNumerics& n, const std::string& time_unit) {
+  p.add("hourglass_coefficient", n.hourglass_coefficient, "-",
+        "alpha of the hourglass penalty force (Ganzenmueller 2015); 0 turns it off", Range::non_negative());
+  p.add("acoustic_cfl", n.cfl, "-", "solid time step as a fraction of the acoustic limit", {0, 1, true, false});
+  p.add("fixed_time_step", n.fixed_time_step, time_unit,
+        "fixed solid time step instead of the acoustic one (0: acoustic); no stability guarantee", Range::non_negative());
+}
 
 template <int Dim>
 ElasticSolid<Dim>::ElasticSolid(ParticleSet<Dim>& particles, const InnerRelation<Dim>& relation, Settings settings)
@@ -18,16 +27,16 @@ ElasticSolid<Dim>::ElasticSolid(ParticleSet<Dim>& particles, const InnerRelation
   if (relation_.n_targets() != particles_.n_particles())
     throw std::invalid_argument(body + ": relation does not match the particles");
   if (!(settings_.density > 0)) throw std::invalid_argument(body + ": density must be positive");
-  if (!(settings_.cfl > 0 && settings_.cfl <= 1)) throw std::invalid_argument(body + ": cfl must lie in (0, 1]");
-  if (!(settings_.hourglass_coefficient >= 0)) throw std::invalid_argument(body + ": hourglass coefficient must be >= 0");
-  if (!(settings_.fixed_time_step >= 0)) throw std::invalid_argument(body + ": fixed time step must be >= 0");
+  if (!(settings_.numerics.cfl > 0 && settings_.numerics.cfl <= 1)) throw std::invalid_argument(body + ": cfl must lie in (0, 1]");
+  if (!(settings_.numerics.hourglass_coefficient >= 0)) throw std::invalid_argument(body + ": hourglass coefficient must be >= 0");
+  if (!(settings_.numerics.fixed_time_step >= 0)) throw std::invalid_argument(body + ": fixed time step must be >= 0");
   if (!(settings_.damping_rate >= 0)) throw std::invalid_argument(body + ": damping rate must be >= 0");
   check_material<Dim>(settings_.material);
 
   const Real wave_modulus = std::visit([](const auto& m) { return m.wave_modulus(); }, settings_.material);
   sound_speed_ = std::sqrt(wave_modulus / settings_.density);
   current_sound_speed_ = sound_speed_;
-  if (settings_.stiffness_update_interval < 1) throw std::invalid_argument(body + ": stiffness update interval must be >= 1");
+  if (settings_.numerics.stiffness_update_interval < 1) throw std::invalid_argument(body + ": stiffness update interval must be >= 1");
   hourglass_modulus_ = young_modulus_estimate<Dim>(settings_.material);
 
   const std::size_t n = particles_.n_particles();
@@ -198,7 +207,7 @@ void ElasticSolid<Dim>::compute_acceleration(Real time) {
   auto a = particles_.field(acceleration_);
   const auto& rel = relation_;
   const Real inverse_density = 1 / settings_.density;
-  const Real hourglass_factor = settings_.hourglass_coefficient / 2 * hourglass_modulus_;
+  const Real hourglass_factor = settings_.numerics.hourglass_coefficient / 2 * hourglass_modulus_;
   const Vec<Dim> g = settings_.body_force;
   parallel_for(particles_.n_particles(), [&](std::size_t i) {
     Vec<Dim> stress_force = Vec<Dim>::Zero(), hourglass_force = Vec<Dim>::Zero();
@@ -292,7 +301,7 @@ void ElasticSolid<Dim>::advance(Real time, Real dt) {
     fail(bad, time + half, "deformation gradient", std::isfinite(J) ? "has J = " + std::to_string(J) + " <= 0 (inverted)" : "is not finite");
   }
   compute_stress();
-  if (steps_++ % static_cast<std::size_t>(settings_.stiffness_update_interval) == 0) update_current_sound_speed();
+  if (steps_++ % static_cast<std::size_t>(settings_.numerics.stiffness_update_interval) == 0) update_current_sound_speed();
   compute_acceleration(time + half);
 
   const Real damping = 1 / (1 + settings_.damping_rate * dt);
@@ -308,13 +317,13 @@ void ElasticSolid<Dim>::advance(Real time, Real dt) {
 
 template <int Dim>
 Real ElasticSolid<Dim>::stable_time_step() const {
-  if (settings_.fixed_time_step > 0) return settings_.fixed_time_step;
+  if (settings_.numerics.fixed_time_step > 0) return settings_.numerics.fixed_time_step;
   const auto v = particles_.field(velocity_);
   const Real max_speed = parallel_max(v.size(), Real(0), [&](std::size_t i) { return v[i].norm(); });
   const Real h = relation_.smoothing_length;
   Real dt = h / (current_sound_speed_ + max_speed);
   if (max_acceleration_ > 0) dt = std::min(dt, std::sqrt(h / max_acceleration_));
-  return settings_.cfl * dt;
+  return settings_.numerics.cfl * dt;
 }
 
 template <int Dim>

@@ -42,6 +42,7 @@
 
 #include <functional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "libsph/core/neighbour_relation.hpp"
@@ -50,18 +51,29 @@
 
 namespace sph {
 
+class Parameters;
+
+/// The numerical choices of a TLSPH solid (independent of the dimension). Scenes bind these members
+/// directly as parameters through declare_parameters.
+struct SolidNumerics {
+  Real hourglass_coefficient = Real(0.1);  ///< alpha of the penalty force; 0 turns it off
+  Real cfl = Real(0.6);                    ///< fraction of the acoustic step, in (0, 1]
+  Real fixed_time_step = 0;                ///< > 0 replaces the stable step (no stability guarantee)
+  int stiffness_update_interval = 10;      ///< steps between updates of the current tangent modulus
+};
+
+/// Declares hourglass_coefficient, acoustic_cfl and fixed_time_step [time_unit].
+void declare_parameters(Parameters& p, SolidNumerics& numerics, const std::string& time_unit);
+
 template <int Dim>
 class ElasticSolid {
  public:
   struct Settings {
     MaterialLaw<Dim> material;
     Real density = 1;                ///< rho0 [mass/length^3]
-    Real hourglass_coefficient = 0;  ///< alpha of the penalty force; 0 turns it off
     Real damping_rate = 0;           ///< c [1/time] of dv/dt = ... - c v (quasi-static runs); 0 = none
     Vec<Dim> body_force = Vec<Dim>::Zero();  ///< g [length/time^2]
-    Real cfl = Real(0.6);                    ///< fraction of the acoustic step, in (0, 1]
-    Real fixed_time_step = 0;                ///< > 0 replaces the stable step (no stability guarantee)
-    int stiffness_update_interval = 10;      ///< steps between updates of the current tangent modulus
+    SolidNumerics numerics;                  ///< hourglass control and time step
     Vec<Dim> fiber = Vec<Dim>::UnitX();      ///< initial (uniform) fibre direction, anisotropic laws
     Vec<Dim> sheet = Vec<Dim>::UnitY();      ///< initial (uniform) sheet direction
     bool active_stress = false;              ///< add T_a f0 (x) f0 to S (anisotropic laws only)

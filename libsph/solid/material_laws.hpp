@@ -140,6 +140,17 @@ HolzapfelOgden<Dim> holzapfel_ogden_2009_kpa(Real bulk_modulus) {
   return law;
 }
 
+/// The constants of the SPHinXsys heart case (Zhang et al. 2021, CMAME 381:113847), in kPa:
+/// a = 0.496, b = 7.209, a_f = 15.196, b_f = 20.417, a_s = 3.283, b_s = 11.176, a_fs = 0.662, b_fs = 9.466.
+template <int Dim>
+HolzapfelOgden<Dim> holzapfel_ogden_zhang_2021_kpa(Real bulk_modulus) {
+  HolzapfelOgden<Dim> law;
+  law.a = Real(0.496), law.b = Real(7.209), law.a_f = Real(15.196), law.b_f = Real(20.417);
+  law.a_s = Real(3.283), law.b_s = Real(11.176), law.a_fs = Real(0.662), law.b_fs = Real(9.466);
+  law.bulk_modulus = bulk_modulus;
+  return law;
+}
+
 /// Guccione, McCulloch & Waldman 1991 (J. Biomech. Eng. 113:42), transversely isotropic, with the
 /// volumetric penalty U(J) for near incompressibility (as in Land et al. 2015, Proc. R. Soc. A 471):
 ///   W = C/2 (exp(Q) - 1) + U(J),

@@ -22,6 +22,7 @@
 #include "apps/scenes/electromechanics/em_setup.hpp"
 #include "apps/scenes/geometry/heart_geometry_parameters.hpp"
 #include "apps/scenes/solid/solid_run.hpp"
+#include "libsph/core/point_probes.hpp"
 #include "cardio/cavity.hpp"
 #include "libsph/core/parallel.hpp"
 
@@ -49,16 +50,16 @@ struct LandLvParameters {
   double density = 1;
   double damping_rate = 0.1;
   double pressure = 0, active_tension = -1, stiffness = 0;  ///< 0 / -1: the problem's value
-  SolidNumerics numerics;
+  SolidSceneNumerics numerics;
 };
 
 class LandLvScene final : public Scene {
  public:
   LandLvScene() {
-    p_.geometry.mesh = shipped_mesh("lv_ellipsoid.stl").string();
-    p_.geometry.dp = 1.0;
-    p_.geometry.relaxation_steps = 60;
-    p_.numerics.output_interval = 50;
+    p_.geometry.settings.mesh = shipped_mesh("lv_ellipsoid.stl");
+    p_.geometry.settings.spacing = 1.0;
+    p_.geometry.settings.relaxation_steps = 60;
+    p_.numerics.discretisation.output_interval = 50;
   }
 
   void declare(sph::Parameters& p) override {
@@ -88,9 +89,9 @@ class LandLvScene final : public Scene {
     const auto gs = geometry_settings();
     const auto g = cardio::prepare_heart_geometry(gs, p_.geometry.cache_folder(), log);
     const Real dp = Real(gs.spacing);
-    const Real h = Real(p_.numerics.smoothing_length_ratio) * dp;
+    const Real h = Real(p_.numerics.discretisation.smoothing_length_ratio) * dp;
     auto body = make_particle_set(g, "lv");
-    const auto kernel = sph::make_kernel<3>(p_.numerics.kernel);
+    const auto kernel = sph::make_kernel<3>(p_.numerics.discretisation.kernel);
     const auto relation = sph::build_inner_relation<3>(body.position, kernel, h);
 
     const bool p3 = p_.problem == 3;
@@ -105,7 +106,7 @@ class LandLvScene final : public Scene {
     settings.density = Real(p_.density);
     settings.damping_rate = Real(p_.damping_rate);
     settings.active_stress = true;
-    apply_solid_numerics<3>(p_.numerics, settings);
+    settings.numerics = p_.numerics.solid;
     sph::ElasticSolid<3> solid(body, relation, settings);
     attach_heart_geometry(solid, g, "land-lv");
 
@@ -126,18 +127,18 @@ class LandLvScene final : public Scene {
     auto set_tension = [&](double t) { std::fill(T.begin(), T.end(), Real(tension * ramp_factor(t))); };
 
     const Vec3 endo_apex(0, 0, -17), epi_apex(0, 0, -20), mid_apex(0, 0, Real(-18.5));
+    const sph::PointProbes<3> apex({endo_apex, epi_apex, mid_apex}, X, body.volume, kernel, h);  // reference configuration
+    auto apex_z = [&](std::size_t p) { return double(apex.sample_value<Vec3>(p, body.position)[2]); };
     double endo_z_at_nine_tenths = std::nan("");
     SolidRunPlan plan;
     plan.scene = "land-lv";
     plan.body = "lv";
     plan.end_time = p_.end_time;
-    plan.output_interval = p_.numerics.output_interval;
+    plan.output_interval = p_.numerics.discretisation.output_interval;
     plan.before_step = [&](Real t, Real dt) { set_tension(double(t + dt / 2)); };
     plan.observer_columns = {"endo_z", "epi_z", "midwall_z", "lv_volume"};
     plan.observers = [&](const sph::StepInfo& s) {
-      const double endo = deformed_position_of<3>(solid, kernel, h, endo_apex)[2];
-      const double epi = deformed_position_of<3>(solid, kernel, h, epi_apex)[2];
-      const double mid = deformed_position_of<3>(solid, kernel, h, mid_apex)[2];
+      const double endo = apex_z(0), epi = apex_z(1), mid = apex_z(2);
       const double volume = lv.volume(body.position, body.field(solid.deformation_gradient_field()), X);
       if (std::isnan(endo_z_at_nine_tenths) && s.time >= 0.9 * p_.end_time) endo_z_at_nine_tenths = endo;
       return std::vector<double>{endo, epi, mid, volume};
@@ -145,9 +146,7 @@ class LandLvScene final : public Scene {
     set_tension(0);
     run_solid<3>(solid, relation, plan, ctx);
 
-    const double endo = deformed_position_of<3>(solid, kernel, h, endo_apex)[2];
-    const double epi = deformed_position_of<3>(solid, kernel, h, epi_apex)[2];
-    const double mid = deformed_position_of<3>(solid, kernel, h, mid_apex)[2];
+    const double endo = apex_z(0), epi = apex_z(1), mid = apex_z(2);
     auto& r = ctx.report;
     const ProblemReference& ref = p3 ? problem3 : problem2;
     r.results["problem"] = p_.problem;
@@ -175,9 +174,9 @@ class LandLvScene final : public Scene {
 
  private:
   cardio::HeartGeometrySettings geometry_settings() const {
-    HeartGeometryParameters g = p_.geometry;
-    if (p_.problem == 3) g.alpha_endo = 90, g.alpha_epi = -90;
-    return g.settings();
+    auto s = p_.geometry.resolved();
+    if (p_.problem == 3) s.ldrb.alpha_endo_deg = 90, s.ldrb.alpha_epi_deg = -90;
+    return s;
   }
 
   LandLvParameters p_;

@@ -11,6 +11,7 @@
 
 #include "apps/scenes/electromechanics/em_scenes.hpp"
 #include "apps/scenes/solid/solid_run.hpp"
+#include "libsph/core/point_probes.hpp"
 #include "geometry/lattice.hpp"
 #include "libsph/core/parallel.hpp"
 
@@ -30,12 +31,12 @@ struct MyocardiumCubeParameters {
   double bulk_modulus = 450;
   double density = 1;
   double damping_rate = 4;     ///< [1/time]
-  SolidNumerics numerics;
+  SolidSceneNumerics numerics;
 };
 
 class MyocardiumCubeScene final : public Scene {
  public:
-  MyocardiumCubeScene() { p_.numerics.output_interval = 0.1; }
+  MyocardiumCubeScene() { p_.numerics.discretisation.output_interval = 0.1; }
 
   void declare(sph::Parameters& p) override {
     p.add("resolution", p_.resolution, "-", "particles across the unit cube", sph::Range::closed(3, 200));
@@ -58,10 +59,10 @@ class MyocardiumCubeScene final : public Scene {
 
   void run(RunContext& ctx) override {
     const Real dp = Real(1) / Real(p_.resolution);
-    const Real h = Real(p_.numerics.smoothing_length_ratio) * dp;
+    const Real h = Real(p_.numerics.discretisation.smoothing_length_ratio) * dp;
     const long holder_layers = std::max(1L, long(std::ceil(p_.holder_length / double(dp) - 1e-9)));
     auto body = geometry::lattice_box<3>("cube", Vec3(-Real(holder_layers) * dp, 0, 0), Vec3(1, 1, 1), dp);
-    const auto kernel = sph::make_kernel<3>(p_.numerics.kernel);
+    const auto kernel = sph::make_kernel<3>(p_.numerics.discretisation.kernel);
     const auto relation = sph::build_inner_relation<3>(body.position, kernel, h);
 
     sph::HolzapfelOgden<3> law;
@@ -75,7 +76,7 @@ class MyocardiumCubeScene final : public Scene {
     settings.fiber = Vec3::UnitX();
     settings.sheet = Vec3::UnitY();
     settings.active_stress = true;
-    apply_solid_numerics<3>(p_.numerics, settings);
+    settings.numerics = p_.numerics.solid;
     sph::ElasticSolid<3> solid(body, relation, settings);
     solid.slide(select_particles<3>(body, [](const Vec3& X) { return X[0] < 0; }), 0);
 
@@ -91,9 +92,11 @@ class MyocardiumCubeScene final : public Scene {
     std::vector<std::string> header;
     for (int c = 0; c < 4; ++c)
       for (const char* q : {"ux", "uy", "uz"}) header.push_back("corner" + std::to_string(c) + "_" + q);
+    const sph::PointProbes<3> corner_probes(corners, X, body.volume, kernel, h);  // reference configuration
     auto corner_displacements = [&] {
       std::vector<Vec3> u;
-      for (const auto& P : corners) u.push_back(deformed_position_of<3>(solid, kernel, h, P) - P);
+      for (std::size_t c = 0; c < corners.size(); ++c)
+        u.push_back(corner_probes.sample_value<Vec3>(c, body.position) - corners[c]);
       return u;
     };
 
@@ -101,7 +104,7 @@ class MyocardiumCubeScene final : public Scene {
     plan.scene = "myocardium-cube";
     plan.body = "cube";
     plan.end_time = p_.end_time;
-    plan.output_interval = p_.numerics.output_interval;
+    plan.output_interval = p_.numerics.discretisation.output_interval;
     plan.observer_columns = header;
     plan.observers = [&](const sph::StepInfo&) {
       std::vector<double> row;

@@ -43,8 +43,8 @@ class DepolarizationScene final : public Scene {
   void run(RunContext& ctx) override {
     const Real dp = Real(1) / static_cast<Real>(p_.resolution);
     auto body = geometry::lattice_box<2>("tissue", Vec2(0, 0), Vec2(1, 1), dp);
-    const auto kernel = sph::make_kernel<2>(p_.numerics.kernel);
-    const Real h = static_cast<Real>(p_.numerics.smoothing_length_ratio) * dp;
+    const auto kernel = sph::make_kernel<2>(p_.numerics.discretisation.kernel);
+    const Real h = static_cast<Real>(p_.numerics.discretisation.smoothing_length_ratio) * dp;
     const auto relation = sph::build_inner_relation<2>(body.position, kernel, h);
 
     sph::AlievPanfilov::Parameters ap;
@@ -59,7 +59,7 @@ class DepolarizationScene final : public Scene {
     settings.cell_model = sph::AlievPanfilov(ap);
     settings.diffusion_tensor = {static_cast<Real>(p_.diffusivity) * sph::Mat<2>::Identity()};
     settings.activation_threshold = Real(0.5);
-    apply_ep_numerics<2>(p_.numerics, settings);
+    settings.numerics = p_.numerics.monodomain;
     cardio::Monodomain<2> monodomain(body, relation, settings);
     auto V = body.field(monodomain.potential_field());
     for (std::size_t i = 0; i < body.n_particles(); ++i) {
@@ -68,7 +68,7 @@ class DepolarizationScene final : public Scene {
     }
 
     const sph::PointProbes<2> probes({Vec2(0.3, 0.7)}, body.position, body.volume, kernel, h);
-    EpRunPlan plan{"depolarization", "tissue", p_.end_time, p_.numerics.output_interval, 0.01, false, {"observer"}, {}};
+    EpRunPlan plan{"depolarization", "tissue", p_.end_time, p_.numerics.discretisation.output_interval, 0.01, false, {"observer"}, {}};
     const auto traces = run_monodomain<2>(monodomain, body, relation, probes, plan, ctx);
 
     const auto& t = traces.time;

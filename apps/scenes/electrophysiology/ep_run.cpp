@@ -5,35 +5,9 @@
 
 namespace cardiosph {
 
-void declare_ep_numerics(sph::Parameters& p, EpNumerics& n, const std::string& time_unit) {
-  p.add("smoothing_length_ratio", n.smoothing_length_ratio, "-", "smoothing length over particle spacing h/dp",
-        sph::Range::closed(1.0, 2.5));
-  p.add_choice("kernel", n.kernel, {"wendland_c2", "cubic_spline", "wendland_c4"}, "smoothing kernel");
-  p.add_choice("correction", n.correction, {"moment", "gradient", "none"},
-               "correction of the diffusion operator (moment: exact on quadratics; gradient: kernel-correction matrix)");
-  p.add_choice("scheme", n.scheme, {"rbr_qss", "rush_larsen", "forward_euler"},
-               "cell integrator: reaction-by-reaction Strang splitting with QSS updates, generalised Rush-Larsen, "
-               "or explicit Euler");
-  p.add("time_step", n.time_step, time_unit, "splitting step (reaction half step, diffusion, reaction half step)",
-        sph::Range::positive());
-  p.add_choice("diffusion_integrator", n.diffusion_integrator, {"forward_euler", "heun"},
-               "explicit integrator of the diffusion sub-steps");
-  p.add("diffusion_cfl", n.diffusion_cfl, "-", "diffusion sub-step as a fraction of its stability limit",
-        {0, 1, true, false});
-  p.add("output_interval", n.output_interval, time_unit, "time between particle outputs (0: first and last state only)",
-        sph::Range::non_negative());
-}
-
-template <int Dim>
-void apply_ep_numerics(const EpNumerics& n, typename cardio::Monodomain<Dim>::Settings& s) {
-  s.scheme = sph::reaction_scheme_from_string(n.scheme);
-  s.time_step = static_cast<sph::Real>(n.time_step);
-  s.correction = n.correction == "moment"     ? sph::DiffusionCorrection::moment
-                 : n.correction == "gradient" ? sph::DiffusionCorrection::gradient
-                                              : sph::DiffusionCorrection::none;
-  s.diffusion_integrator =
-      n.diffusion_integrator == "heun" ? sph::DiffusionIntegrator::heun : sph::DiffusionIntegrator::forward_euler;
-  s.diffusion_cfl = static_cast<sph::Real>(n.diffusion_cfl);
+void declare_ep_numerics(sph::Parameters& p, EpSceneNumerics& n, const std::string& time_unit) {
+  declare_parameters(p, n.discretisation, time_unit);
+  cardio::declare_parameters(p, n.monodomain, time_unit);
 }
 
 template <int Dim>
@@ -88,8 +62,6 @@ std::vector<double> upward_crossings(const std::vector<double>& time, const std:
   return crossings;
 }
 
-template void apply_ep_numerics<2>(const EpNumerics&, cardio::Monodomain<2>::Settings&);
-template void apply_ep_numerics<3>(const EpNumerics&, cardio::Monodomain<3>::Settings&);
 template EpTraces run_monodomain<2>(cardio::Monodomain<2>&, sph::ParticleSet<2>&, const sph::NeighbourList<2>&,
                                     const sph::PointProbes<2>&, const EpRunPlan&, RunContext&);
 template EpTraces run_monodomain<3>(cardio::Monodomain<3>&, sph::ParticleSet<3>&, const sph::NeighbourList<3>&,

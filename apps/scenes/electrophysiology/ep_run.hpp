@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/scenes/discretisation.hpp"
 #include "apps/scenes/scene.hpp"
 #include "cardio/monodomain.hpp"
 #include "libsph/core/point_probes.hpp"
@@ -15,22 +16,14 @@
 
 namespace cardiosph {
 
-struct EpNumerics {
-  double smoothing_length_ratio = 1.3;  ///< h / dp
-  std::string kernel = "wendland_c2";
-  std::string correction = "moment";
-  std::string scheme = "rbr_qss";       ///< cell scheme: rbr_qss, rush_larsen or forward_euler
-  double time_step = 0.05;              ///< splitting step (reaction / diffusion / reaction)
-  std::string diffusion_integrator = "forward_euler";
-  double diffusion_cfl = 0.9;           ///< fraction of the diffusion stability limit
-  double output_interval = 0;           ///< time between particle outputs; 0 = first and last state
+/// Numerical settings shared by the tissue electrophysiology scenes: the discretisation, and the
+/// monodomain's own choices bound directly (cardio::MonodomainNumerics).
+struct EpSceneNumerics {
+  Discretisation discretisation;
+  cardio::MonodomainNumerics monodomain;
 };
 
-void declare_ep_numerics(sph::Parameters& p, EpNumerics& n, const std::string& time_unit);
-
-/// Copies the numerical settings into the monodomain's settings.
-template <int Dim>
-void apply_ep_numerics(const EpNumerics& n, typename cardio::Monodomain<Dim>::Settings& settings);
+void declare_ep_numerics(sph::Parameters& p, EpSceneNumerics& n, const std::string& time_unit);
 
 struct EpRunPlan {
   std::string scene;                     ///< name shown in the progress line

@@ -28,7 +28,7 @@ struct DepolarizationParameters {
   double end_time = 16;
   double diffusivity = 1;
   double k = 8, a = 0.15, b = 0, mu1 = 0.2, mu2 = 0.3, epsilon0 = 0.04;
-  EpNumerics numerics{1.3, "wendland_c2", "moment", "rbr_qss", 0.01, "forward_euler", 0.9, 0};
+  EpSceneNumerics numerics{{1.3, "wendland_c2", 0}, {sph::ReactionScheme::rbr_qss, sph::Real(0.01)}};
 };
 
 /// `spiral-wave`: 2D Aliev-Panfilov spiral from an S1-S2 cross-field stimulus (mm, ms, mV).
@@ -42,7 +42,7 @@ struct SpiralWaveParameters {
   double stimulus_strength = 50;  ///< [mV/ms]
   double stimulus_duration = 2;   ///< [ms]
   double s2_time = 0;             ///< onset of the S2 stimulus [ms]; 0: when the S1 wave back passes the middle
-  EpNumerics numerics{1.3, "wendland_c2", "moment", "rbr_qss", 0.5, "forward_euler", 0.9, 20};
+  EpSceneNumerics numerics{{1.3, "wendland_c2", 20}, {sph::ReactionScheme::rbr_qss, sph::Real(0.5)}};
 };
 
 /// `niederer-slab`: the N-version benchmark slab of Niederer et al. 2011 (mm, ms, mV).
@@ -55,7 +55,7 @@ struct NiedererSlabParameters {
   double stimulus_current = 50;     ///< [uA/mm^3] (50,000 uA/cm^3)
   double stimulus_duration = 2;     ///< [ms]
   double stimulus_size = 1.5;       ///< side of the stimulated corner cube [mm]
-  EpNumerics numerics{1.3, "wendland_c2", "moment", "rbr_qss", 0.05, "forward_euler", 0.9, 0};
+  EpSceneNumerics numerics{{1.3, "wendland_c2", 0}, {sph::ReactionScheme::rbr_qss, sph::Real(0.05)}};
 };
 
 std::unique_ptr<Scene> make_cell_scene(CellParameters p = {});

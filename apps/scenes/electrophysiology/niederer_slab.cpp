@@ -54,8 +54,8 @@ class NiedererSlabScene final : public Scene {
   void run(RunContext& ctx) override {
     const Real dx = Real(3) / static_cast<Real>(p_.resolution);
     auto body = geometry::lattice_box<3>("slab", Vec3(0, 0, 0), Vec3(20, 7, 3), dx);
-    const auto kernel = sph::make_kernel<3>(p_.numerics.kernel);
-    const Real h = static_cast<Real>(p_.numerics.smoothing_length_ratio) * dx;
+    const auto kernel = sph::make_kernel<3>(p_.numerics.discretisation.kernel);
+    const Real h = static_cast<Real>(p_.numerics.discretisation.smoothing_length_ratio) * dx;
     const auto relation = sph::build_inner_relation<3>(body.position, kernel, h);
 
     // Monodomain conductivity: harmonic mean sigma_i sigma_e / (sigma_i + sigma_e), then D = sigma / (chi C_m).
@@ -75,11 +75,11 @@ class NiedererSlabScene final : public Scene {
       if ((body.position[i].array() < size).all()) stimulated.push_back(i);
     const double strength = p_.stimulus_current / (p_.surface_to_volume * p_.capacitance);  // mV/ms
     settings.stimuli = {{"corner cube", stimulated, {0, p_.stimulus_duration, strength, 0, 1}}};
-    apply_ep_numerics<3>(p_.numerics, settings);
+    settings.numerics = p_.numerics.monodomain;
     cardio::Monodomain<3> monodomain(body, relation, settings);
 
     const sph::PointProbes<3> probes(std::vector<Vec3>(points.begin(), points.end()), body.position, body.volume, kernel, h);
-    EpRunPlan plan{"niederer-slab", "slab", p_.end_time, p_.numerics.output_interval, 0.5, true,
+    EpRunPlan plan{"niederer-slab", "slab", p_.end_time, p_.numerics.discretisation.output_interval, 0.5, true,
                    {"P1", "P2", "P3", "P4", "P5", "P6", "P7", "P8", "P9"}, {}};
     run_monodomain<3>(monodomain, body, relation, probes, plan, ctx);
 

@@ -50,8 +50,8 @@ class SpiralWaveScene final : public Scene {
         }
       return sph::ParticleSet<2>("tissue", std::move(x), std::move(v));
     }();
-    const auto kernel = sph::make_kernel<2>(p_.numerics.kernel);
-    const Real h = static_cast<Real>(p_.numerics.smoothing_length_ratio) * dp;
+    const auto kernel = sph::make_kernel<2>(p_.numerics.discretisation.kernel);
+    const Real h = static_cast<Real>(p_.numerics.discretisation.smoothing_length_ratio) * dp;
     const auto relation = sph::build_inner_relation<2>(body.position, kernel, h);
 
     cardio::Monodomain<2>::Settings settings;
@@ -73,14 +73,14 @@ class SpiralWaveScene final : public Scene {
     const sph::StimulusProtocol s1{0, p_.stimulus_duration, p_.stimulus_strength, 0, 1};
     sph::StimulusProtocol s2{p_.s2_time, p_.stimulus_duration, p_.stimulus_strength, 0, p_.s2_time > 0 ? 1 : 0};
     settings.stimuli = {{"S1", left_strip, s1}, {"S2", lower_half, s2}};
-    apply_ep_numerics<2>(p_.numerics, settings);
+    settings.numerics = p_.numerics.monodomain;
     cardio::Monodomain<2> monodomain(body, relation, settings);
 
     const std::vector<Vec2> observers{Vec2(L / 4, L / 4), Vec2(3 * L / 4, L / 4), Vec2(L / 4, 3 * L / 4),
                                       Vec2(3 * L / 4, 3 * L / 4), Vec2(L / 2, L / 2)};
     const sph::PointProbes<2> probes(observers, body.position, body.volume, kernel, h);
     double s2_onset = p_.s2_time;
-    EpRunPlan plan{"spiral-wave", "tissue", p_.end_time, p_.numerics.output_interval, 0.5, false,
+    EpRunPlan plan{"spiral-wave", "tissue", p_.end_time, p_.numerics.discretisation.output_interval, 0.5, false,
                    {"lower_left", "lower_right", "upper_left", "upper_right", "centre"}, {}};
     if (p_.s2_time <= 0) {
       // Automatic S2: once the centre has been excited by S1 and has fallen back through -70 mV.

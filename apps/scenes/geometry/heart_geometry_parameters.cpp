@@ -1,90 +1,64 @@
 #include "apps/scenes/geometry/heart_geometry_parameters.hpp"
 
-#include <sstream>
+#include <cmath>
 
 namespace cardiosph {
 namespace {
 
-void require_file(const std::string& key, const std::string& path) {
+void require_file(const std::string& key, const std::filesystem::path& path) {
   if (path.empty()) return;
   if (!std::filesystem::is_regular_file(path))
-    throw sph::ParameterError("parameter '" + key + "' = '" + path + "': no such file");
+    throw sph::ParameterError("parameter '" + key + "' = '" + path.string() + "': no such file");
 }
 
 }  // namespace
 
-geometry::Vec3 parse_vector(const std::string& key, const std::string& text, bool allow_zero) {
-  std::string t = text;
-  for (char& c : t)
-    if (c == ',') c = ' ';
-  std::istringstream in(t);
-  geometry::Vec3 v;
-  if (!(in >> v.x() >> v.y() >> v.z()) || !(in >> std::ws).eof())
-    throw sph::ParameterError("parameter '" + key + "' = '" + text + "': expected three numbers x,y,z");
-  if (!allow_zero && v.norm() == 0) throw sph::ParameterError("parameter '" + key + "' = '" + text + "': must not be zero");
-  return v;
-}
-
 std::filesystem::path shipped_mesh(const std::string& file) { return std::filesystem::path(CARDIOSPH_MESH_DIR) / file; }
 
 void HeartGeometryParameters::declare(sph::Parameters& p) {
-  p.add_text("mesh", mesh, "closed myocardium mesh: STL (ascii or binary), OBJ or PLY");
-  p.add("scale", scale, "1", "multiplies the mesh coordinates (1000 for a file in metres)", sph::Range::positive());
-  p.add("repair", repair, "repair orientation and holes instead of rejecting a bad mesh");
+  auto& s = settings;
+  p.add_path("mesh", s.mesh, "closed myocardium mesh: STL (ascii or binary), OBJ or PLY");
+  p.add("scale", s.scale, "1", "multiplies the mesh coordinates (1000 for a file in metres)", sph::Range::positive());
+  p.add("repair", s.repair, "repair orientation and holes instead of rejecting a bad mesh");
   if (dp_from_preset)
-    p.add("dp", dp, "mm", "particle spacing (0: from the preset)", sph::Range::non_negative());
+    p.add("dp", s.spacing, "mm", "particle spacing (0: from the preset)", sph::Range::non_negative());
   else
-    p.add("dp", dp, "mm", "particle spacing", sph::Range::positive());
-  p.add("relaxation_steps", relaxation_steps, "1", "particle relaxation steps (0: lattice)", sph::Range::non_negative());
-  p.add_text("epi_surface", epi_surface, "separate epicardial surface mesh (labels by nearest surface)");
-  p.add_text("lv_surface", lv_surface, "separate LV endocardial surface mesh");
-  p.add_text("rv_surface", rv_surface, "separate RV endocardial surface mesh");
-  p.add_text("base_surface", base_surface, "separate base surface mesh (default: the flat base found by the rule)");
-  p.add_choice("fibres", fibres, {"ldrb", "uniform", "file", "none"}, "fibre rule");
-  p.add("alpha_endo", alpha_endo, "deg", "LDRB helix angle at the endocardium", sph::Range::closed(-90, 90));
-  p.add("alpha_epi", alpha_epi, "deg", "LDRB helix angle at the epicardium", sph::Range::closed(-90, 90));
-  p.add("beta_endo", beta_endo, "deg", "LDRB sheet angle at the endocardium", sph::Range::closed(-90, 90));
-  p.add("beta_epi", beta_epi, "deg", "LDRB sheet angle at the epicardium", sph::Range::closed(-90, 90));
-  p.add_text("uniform_fibre", uniform_fibre, "fibre direction x,y,z for fibres = uniform");
-  p.add_text("uniform_sheet", uniform_sheet, "sheet direction x,y,z for fibres = uniform");
-  p.add_text("fibre_file", fibre_file, "text file 'x y z fx fy fz [sx sy sz]' for fibres = file (nearest point)");
+    p.add("dp", s.spacing, "mm", "particle spacing", sph::Range::positive());
+  p.add("relaxation_steps", s.relaxation_steps, "1", "particle relaxation steps (0: lattice)", sph::Range::non_negative());
+  p.add_path("epi_surface", s.epi_surface, "separate epicardial surface mesh (labels by nearest surface)");
+  p.add_path("lv_surface", s.lv_surface, "separate LV endocardial surface mesh");
+  p.add_path("rv_surface", s.rv_surface, "separate RV endocardial surface mesh");
+  p.add_path("base_surface", s.base_surface, "separate base surface mesh (default: the flat base found by the rule)");
+  p.add_choice("fibres", s.fibres, {"ldrb", "uniform", "file", "none"}, "fibre rule");
+  p.add("alpha_endo", s.ldrb.alpha_endo_deg, "deg", "LDRB helix angle at the endocardium", sph::Range::closed(-90, 90));
+  p.add("alpha_epi", s.ldrb.alpha_epi_deg, "deg", "LDRB helix angle at the epicardium", sph::Range::closed(-90, 90));
+  p.add("beta_endo", s.ldrb.beta_endo_deg, "deg", "LDRB sheet angle at the endocardium", sph::Range::closed(-90, 90));
+  p.add("beta_epi", s.ldrb.beta_epi_deg, "deg", "LDRB sheet angle at the epicardium", sph::Range::closed(-90, 90));
+  p.add_vector("uniform_fibre", s.uniform_fibre, "-", "fibre direction x,y,z for fibres = uniform");
+  p.add_vector("uniform_sheet", s.uniform_sheet, "-", "sheet direction x,y,z for fibres = uniform");
+  p.add_path("fibre_file", s.fibre_file, "text file 'x y z fx fy fz [sx sy sz]' for fibres = file (nearest point)");
   p.add_text("cache", cache, "geometry cache folder ('' : $CARDIOSPH_CACHE or ~/.cache/cardiosph, 'none': off)");
 }
 
-cardio::HeartGeometrySettings HeartGeometryParameters::settings() const {
-  cardio::HeartGeometrySettings s;
-  require_file("mesh", mesh);
-  if (mesh.empty()) throw sph::ParameterError("parameter 'mesh' is empty: give a mesh file");
-  require_file("epi_surface", epi_surface);
-  require_file("lv_surface", lv_surface);
-  require_file("rv_surface", rv_surface);
-  require_file("base_surface", base_surface);
-  if (fibres == "file") {
-    if (fibre_file.empty()) throw sph::ParameterError("parameter 'fibre_file' is empty but fibres = file");
-    require_file("fibre_file", fibre_file);
+cardio::HeartGeometrySettings HeartGeometryParameters::resolved(double preset_spacing) const {
+  cardio::HeartGeometrySettings s = settings;
+  if (s.spacing == 0) s.spacing = preset_spacing;
+  if (s.mesh.empty()) throw sph::ParameterError("parameter 'mesh' is empty: give a mesh file");
+  require_file("mesh", s.mesh);
+  require_file("epi_surface", s.epi_surface);
+  require_file("lv_surface", s.lv_surface);
+  require_file("rv_surface", s.rv_surface);
+  require_file("base_surface", s.base_surface);
+  if (s.fibres == "file") {
+    if (s.fibre_file.empty()) throw sph::ParameterError("parameter 'fibre_file' is empty but fibres = file");
+    require_file("fibre_file", s.fibre_file);
   }
-  const bool any_surface = !epi_surface.empty() || !lv_surface.empty() || !rv_surface.empty() || !base_surface.empty();
-  if (any_surface && (epi_surface.empty() || lv_surface.empty()))
+  const bool any_surface = !s.epi_surface.empty() || !s.lv_surface.empty() || !s.rv_surface.empty() || !s.base_surface.empty();
+  if (any_surface && (s.epi_surface.empty() || s.lv_surface.empty()))
     throw sph::ParameterError("parameters 'epi_surface' and 'lv_surface' are both needed when surfaces are given separately");
-  s.mesh = mesh;
-  s.scale = scale;
-  s.repair = repair;
-  s.spacing = dp;
-  s.relaxation_steps = relaxation_steps;
-  s.epi_surface = epi_surface;
-  s.lv_surface = lv_surface;
-  s.rv_surface = rv_surface;
-  s.base_surface = base_surface;
-  s.fibres = fibres;
-  s.ldrb.alpha_endo_deg = alpha_endo;
-  s.ldrb.alpha_epi_deg = alpha_epi;
-  s.ldrb.beta_endo_deg = beta_endo;
-  s.ldrb.beta_epi_deg = beta_epi;
-  s.uniform_fibre = parse_vector("uniform_fibre", uniform_fibre);
-  s.uniform_sheet = parse_vector("uniform_sheet", uniform_sheet);
   if (std::abs(s.uniform_fibre.normalized().dot(s.uniform_sheet.normalized())) > 1 - 1e-9)
     throw sph::ParameterError("parameters 'uniform_fibre' and 'uniform_sheet' are parallel");
-  s.fibre_file = fibre_file;
+  if (!(s.spacing > 0)) throw sph::ParameterError("parameter 'dp' must be positive");
   return s;
 }
 

@@ -11,30 +11,20 @@
 
 namespace cardiosph {
 
-/// Three numbers "x,y,z" (commas or spaces) of parameter `key`; throws sph::ParameterError naming
-/// it when malformed, or when zero unless allow_zero (directions).
-geometry::Vec3 parse_vector(const std::string& key, const std::string& text, bool allow_zero = false);
-
 /// The shipped meshes (meshes/ of the source tree).
 std::filesystem::path shipped_mesh(const std::string& file);
 
+/// The parameters of the geometry stage: the members of its settings (cardio::HeartGeometrySettings)
+/// bound directly, and the cache folder.
 struct HeartGeometryParameters {
-  std::string mesh;           ///< path; default set by the scene
-  double scale = 1.0;
-  bool repair = false;
-  double dp = 0.5;
-  bool dp_from_preset = false;  ///< declare dp = 0 as "from the scene's preset"
-  long relaxation_steps = 100;
-  std::string epi_surface, lv_surface, rv_surface, base_surface;
-  std::string fibres = "ldrb";
-  double alpha_endo = 60, alpha_epi = -60, beta_endo = 0, beta_epi = 0;
-  std::string uniform_fibre = "1,0,0", uniform_sheet = "0,1,0";
-  std::string fibre_file;
-  std::string cache;          ///< folder; "" = default, "none" = no cache
+  cardio::HeartGeometrySettings settings;  ///< mesh: set by the scene; spacing is the parameter dp
+  std::string cache;                       ///< folder; "" = default, "none" = no cache
+  bool dp_from_preset = false;             ///< declare dp = 0 as "from the scene's preset"
 
   void declare(sph::Parameters& p);
-  /// Checks and converts; throws sph::ParameterError naming the parameter.
-  cardio::HeartGeometrySettings settings() const;
+  /// The settings with dp = 0 replaced by `preset_spacing`, after checking the files and the
+  /// combinations; throws sph::ParameterError naming the parameter.
+  cardio::HeartGeometrySettings resolved(double preset_spacing = 0) const;
   std::filesystem::path cache_folder() const;
 };
 

@@ -15,16 +15,16 @@ namespace {
 class ParticlesScene final : public Scene {
  public:
   void declare(sph::Parameters& p) override {
-    geometry_.mesh = shipped_mesh("lv_ellipsoid.stl").string();
+    geometry_.settings.mesh = shipped_mesh("lv_ellipsoid.stl");
     geometry_.declare(p);
     p.add_choice("fiber_check", fiber_check_, {"auto", "lv-ellipsoid", "none"},
                  "measure the fibre angle against the analytic LV ellipsoid (auto: when the mesh is the shipped one)");
     p.add("rim", rim_, "mm", "fibre check: leave out particles this close to the base plane", sph::Range::non_negative());
   }
-  void check() const override { (void)geometry_.settings(); }
+  void check() const override { (void)geometry_.resolved(); }
 
   void run(RunContext& ctx) override {
-    const auto settings = geometry_.settings();
+    const auto settings = geometry_.resolved();
     auto log = [&](const std::string& line) {
       if (!ctx.quiet) std::cout << line << '\n' << std::flush;
     };

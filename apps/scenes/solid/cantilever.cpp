@@ -4,6 +4,7 @@
 
 #include "apps/scenes/solid/solid_scenes.hpp"
 #include "geometry/lattice.hpp"
+#include "libsph/core/point_probes.hpp"
 
 namespace cardiosph {
 namespace {
@@ -45,9 +46,9 @@ class CantileverScene final : public Scene {
   void run(RunContext& ctx) override {
     const Real T = static_cast<Real>(p_.thickness), L = static_cast<Real>(p_.length);
     const Real dp = T / static_cast<Real>(p_.resolution);
-    const Real h = static_cast<Real>(p_.numerics.smoothing_length_ratio) * dp;
+    const Real h = static_cast<Real>(p_.numerics.discretisation.smoothing_length_ratio) * dp;
     auto body = geometry::lattice_box<3>("beam", Vec3(-static_cast<Real>(p_.holder_length), 0, 0), Vec3(L, T, T), dp);
-    const auto kernel = sph::make_kernel<3>(p_.numerics.kernel);
+    const auto kernel = sph::make_kernel<3>(p_.numerics.discretisation.kernel);
     const auto relation = sph::build_inner_relation<3>(body.position, kernel, h);
 
     // Isotropic exponential law: the Holzapfel-Ogden law with only its isotropic term,
@@ -60,7 +61,7 @@ class CantileverScene final : public Scene {
     sph::ElasticSolid<3>::Settings settings;
     settings.material = law;
     settings.density = static_cast<Real>(p_.density);
-    apply_solid_numerics<3>(p_.numerics, settings);
+    settings.numerics = p_.numerics.solid;
     sph::ElasticSolid<3> solid(body, relation, settings);
     solid.clamp(select_particles<3>(body, [](const Vec3& X) { return X[0] < 0; }));
     auto v = body.field(solid.velocity_field());
@@ -69,20 +70,22 @@ class CantileverScene final : public Scene {
       if (body.position[i][0] > 0) v[i] = kick;
 
     const Vec3 tip_point(L, T / 2, T / 2);
+    const sph::PointProbes<3> tip_probe({tip_point}, body.position, body.volume, kernel, h);  // reference configuration
+    auto tip_position = [&] { return tip_probe.sample_value<Vec3>(0, body.position); };
     double max_deflection = 0;
     SolidRunPlan plan;
     plan.scene = "cantilever";
     plan.body = "beam";
     plan.end_time = p_.end_time;
-    plan.output_interval = p_.numerics.output_interval;
+    plan.output_interval = p_.numerics.discretisation.output_interval;
     plan.observer_columns = {"tip_x", "tip_y", "tip_z"};
     plan.observers = [&](const sph::StepInfo&) {
-      const Vec3 tip = deformed_position_of<3>(solid, kernel, h, tip_point);
+      const Vec3 tip = tip_position();
       max_deflection = std::max(max_deflection, double((tip - tip_point).tail<2>().norm()));
       return std::vector<double>{tip[0], tip[1], tip[2]};
     };
     const auto summary = run_solid<3>(solid, relation, plan, ctx);
-    const Vec3 tip = deformed_position_of<3>(solid, kernel, h, tip_point);
+    const Vec3 tip = tip_position();
     auto& report = ctx.report;
     report.results["particle_spacing"] = dp;
     report.results["tip_max_deflection_m"] = max_deflection;
@@ -117,17 +120,17 @@ class TwistingColumnScene final : public Scene {
   void run(RunContext& ctx) override {
     const Real W = static_cast<Real>(p_.width), H = static_cast<Real>(p_.height);
     const Real dp = W / static_cast<Real>(p_.resolution);
-    const Real h = static_cast<Real>(p_.numerics.smoothing_length_ratio) * dp;
+    const Real h = static_cast<Real>(p_.numerics.discretisation.smoothing_length_ratio) * dp;
     // Three clamped layers below z = 0 hold the base.
     auto body = geometry::lattice_box<3>("column", Vec3(-W / 2, -W / 2, -3 * dp), Vec3(W / 2, W / 2, H), dp);
-    const auto kernel = sph::make_kernel<3>(p_.numerics.kernel);
+    const auto kernel = sph::make_kernel<3>(p_.numerics.discretisation.kernel);
     const auto relation = sph::build_inner_relation<3>(body.position, kernel, h);
     Real lambda, mu;
     sph::lame_constants(static_cast<Real>(p_.young_modulus), static_cast<Real>(p_.poisson_ratio), lambda, mu);
     sph::ElasticSolid<3>::Settings settings;
     settings.material = sph::NeoHookean<3>{lambda, mu};
     settings.density = static_cast<Real>(p_.density);
-    apply_solid_numerics<3>(p_.numerics, settings);
+    settings.numerics = p_.numerics.solid;
     sph::ElasticSolid<3> solid(body, relation, settings);
     solid.clamp(select_particles<3>(body, [](const Vec3& X) { return X[2] < 0; }));
     // Initial velocity: rigid rotation about the column axis at a rate growing with height
@@ -156,7 +159,7 @@ class TwistingColumnScene final : public Scene {
     plan.scene = "twisting-column";
     plan.body = "column";
     plan.end_time = p_.end_time;
-    plan.output_interval = p_.numerics.output_interval;
+    plan.output_interval = p_.numerics.discretisation.output_interval;
     plan.every_step = [&](const sph::StepInfo&) {
       const double angle = top_rotation();
       twist += std::remainder(angle - std::remainder(twist, 2 * M_PI), 2 * M_PI);

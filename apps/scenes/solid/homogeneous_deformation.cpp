@@ -71,15 +71,15 @@ class HomogeneousDeformationScene final : public Scene {
 
   void check() const override {
     if (p_.ramp_time > p_.end_time) throw sph::ParameterError("parameter 'ramp_time' must not exceed 'end_time'");
-    const double support = 2 * p_.numerics.smoothing_length_ratio / static_cast<double>(p_.resolution);
+    const double support = 2 * p_.numerics.discretisation.smoothing_length_ratio / static_cast<double>(p_.resolution);
     if ((p_.boundary_layers + 1) * support >= 0.5)
       throw sph::ParameterError("parameters 'resolution' and 'boundary_layers' leave no measured interior: need (boundary_layers + 1) * 2h < 0.5");
   }
 
   void run(RunContext& ctx) override {
     const Real dp = Real(1) / static_cast<Real>(p_.resolution);
-    const Real h = static_cast<Real>(p_.numerics.smoothing_length_ratio) * dp;
-    const auto kernel = sph::make_kernel<3>(p_.numerics.kernel);
+    const Real h = static_cast<Real>(p_.numerics.discretisation.smoothing_length_ratio) * dp;
+    const auto kernel = sph::make_kernel<3>(p_.numerics.discretisation.kernel);
     const Real driven_depth = static_cast<Real>(p_.boundary_layers) * 2 * h;
     const Real measured_depth = driven_depth + 2 * h;
     auto depth = [](const Vec3& X) { return std::min(X.minCoeff(), 1 - X.maxCoeff()); };
@@ -101,7 +101,7 @@ class HomogeneousDeformationScene final : public Scene {
       settings.material = law;
       settings.density = static_cast<Real>(p_.density);
       settings.damping_rate = static_cast<Real>(p_.damping_rate);
-      apply_solid_numerics<3>(p_.numerics, settings);
+      settings.numerics = p_.numerics.solid;
       sph::ElasticSolid<3> solid(body, relation, settings);
       solid.prescribe_motion(
           select_particles<3>(body, [&](const Vec3& X) { return depth(X) < driven_depth; }),
@@ -112,7 +112,7 @@ class HomogeneousDeformationScene final : public Scene {
       plan.scene = "homogeneous-deformation " + mode.name;
       plan.body = mode.name;
       plan.end_time = p_.end_time;
-      plan.output_interval = p_.numerics.output_interval;
+      plan.output_interval = p_.numerics.discretisation.output_interval;
       steps += run_solid<3>(solid, relation, plan, ctx).steps;
 
       // Interior stress against the law at the final F, sigma = J^-1 F S F^T.

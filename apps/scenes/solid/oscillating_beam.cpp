@@ -43,10 +43,10 @@ class OscillatingBeamScene final : public Scene {
 
   void run(RunContext& ctx) override {
     const Real dp = static_cast<Real>(p_.thickness / static_cast<double>(p_.resolution));
-    const Real h = static_cast<Real>(p_.numerics.smoothing_length_ratio) * dp;
+    const Real h = static_cast<Real>(p_.numerics.discretisation.smoothing_length_ratio) * dp;
     const Real L = static_cast<Real>(p_.length), H = static_cast<Real>(p_.thickness);
     auto body = geometry::lattice_box<2>("plate", Vec2(-static_cast<Real>(p_.clamp_length), -H / 2), Vec2(L, H / 2), dp);
-    const auto kernel = sph::make_kernel<2>(p_.numerics.kernel);
+    const auto kernel = sph::make_kernel<2>(p_.numerics.discretisation.kernel);
     const auto relation = sph::build_inner_relation<2>(body.position, kernel, h);
 
     sph::ElasticSolid<2>::Settings settings;
@@ -55,7 +55,7 @@ class OscillatingBeamScene final : public Scene {
     if (p_.material == "neo_hookean") settings.material = sph::NeoHookean<2>{lambda, mu};
     else settings.material = sph::SaintVenantKirchhoff<2>{lambda, mu};
     settings.density = static_cast<Real>(p_.density);
-    apply_solid_numerics<2>(p_.numerics, settings);
+    settings.numerics = p_.numerics.solid;
     sph::ElasticSolid<2> solid(body, relation, settings);
     solid.clamp(select_particles<2>(body, [](const Vec2& X) { return X[0] < 0; }));
 
@@ -86,7 +86,7 @@ class OscillatingBeamScene final : public Scene {
     plan.scene = "oscillating-beam";
     plan.body = "plate";
     plan.end_time = p_.end_time;
-    plan.output_interval = p_.numerics.output_interval;
+    plan.output_interval = p_.numerics.discretisation.output_interval;
     plan.observer_columns = {"tip_deflection"};
     plan.observers = [&](const sph::StepInfo&) { return std::vector<double>{tip_deflection()}; };
     plan.every_step = [&](const sph::StepInfo& s) {

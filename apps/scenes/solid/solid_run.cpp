@@ -7,17 +7,9 @@
 
 namespace cardiosph {
 
-void declare_solid_numerics(sph::Parameters& p, SolidNumerics& n, const std::string& time_unit) {
-  p.add("smoothing_length_ratio", n.smoothing_length_ratio, "-", "smoothing length over particle spacing h/dp",
-        sph::Range::closed(1.0, 2.5));
-  p.add_choice("kernel", n.kernel, {"wendland_c2", "cubic_spline", "wendland_c4"}, "smoothing kernel");
-  p.add("hourglass_coefficient", n.hourglass_coefficient, "-",
-        "alpha of the hourglass penalty force (Ganzenmueller 2015); 0 turns it off", sph::Range::non_negative());
-  p.add("cfl", n.cfl, "-", "time step as a fraction of the acoustic limit", {0, 1, true, false});
-  p.add("time_step", n.time_step, time_unit, "fixed time step instead of the acoustic one (0: acoustic); no stability guarantee",
-        sph::Range::non_negative());
-  p.add("output_interval", n.output_interval, time_unit, "time between particle outputs (0: first and last state only)",
-        sph::Range::non_negative());
+void declare_solid_numerics(sph::Parameters& p, SolidSceneNumerics& n, const std::string& time_unit) {
+  declare_parameters(p, n.discretisation, time_unit);
+  sph::declare_parameters(p, n.solid, time_unit);
 }
 
 void check_whole_spacings(double extent, double spacing, const std::string& name) {
@@ -80,34 +72,9 @@ std::vector<sph::Index> select_particles(const sph::ParticleSet<Dim>& body,
   return selected;
 }
 
-template <int Dim>
-sph::Vec<Dim> deformed_position_of(sph::ElasticSolid<Dim>& solid, const sph::AnyKernel<Dim>& kernel,
-                                   sph::Real smoothing_length, const sph::Vec<Dim>& reference_point) {
-  solid.update_output_fields();
-  auto& body = solid.particles();
-  const auto X = body.field(solid.reference_position_field());
-  const auto F = body.field(solid.deformation_gradient_field());
-  sph::Vec<Dim> weighted = sph::Vec<Dim>::Zero();
-  double weight = 0;
-  std::visit(
-      [&](const auto& k) {
-        for (std::size_t i = 0; i < body.n_particles(); ++i) {
-          const sph::Real w = k.value((reference_point - X[i]).norm(), smoothing_length) * body.volume[i];
-          if (w <= 0) continue;
-          weighted += w * (body.position[i] + F[i] * (reference_point - X[i]));
-          weight += w;
-        }
-      },
-      kernel);
-  if (weight <= 0) throw std::invalid_argument("observer point outside the body");
-  return weighted / static_cast<sph::Real>(weight);
-}
-
 template SolidRunSummary run_solid<2>(sph::ElasticSolid<2>&, const sph::NeighbourList<2>&, const SolidRunPlan&, RunContext&);
 template SolidRunSummary run_solid<3>(sph::ElasticSolid<3>&, const sph::NeighbourList<3>&, const SolidRunPlan&, RunContext&);
 template std::vector<sph::Index> select_particles<2>(const sph::ParticleSet<2>&, const std::function<bool(const sph::Vec<2>&)>&);
 template std::vector<sph::Index> select_particles<3>(const sph::ParticleSet<3>&, const std::function<bool(const sph::Vec<3>&)>&);
-template sph::Vec<2> deformed_position_of<2>(sph::ElasticSolid<2>&, const sph::AnyKernel<2>&, sph::Real, const sph::Vec<2>&);
-template sph::Vec<3> deformed_position_of<3>(sph::ElasticSolid<3>&, const sph::AnyKernel<3>&, sph::Real, const sph::Vec<3>&);
 
 }  // namespace cardiosph

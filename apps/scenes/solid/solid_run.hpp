@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/scenes/discretisation.hpp"
 #include "apps/scenes/scene.hpp"
 #include "libsph/core/time_stepper.hpp"
 #include "libsph/io/run_harness.hpp"
@@ -14,27 +15,17 @@
 
 namespace cardiosph {
 
-struct SolidNumerics {
-  double smoothing_length_ratio = 1.3;  ///< h / dp
-  std::string kernel = "wendland_c4";
-  double hourglass_coefficient = 0.1;  ///< alpha of Ganzenmueller's penalty force; 0 turns it off
-  double cfl = 0.6;                    ///< fraction of the acoustic time step
-  double time_step = 0;                ///< fixed time step; 0 = the stable (acoustic) step
-  double output_interval = 0;          ///< time between particle outputs; 0 = first and last state
+/// Numerical settings shared by the solid scenes: the discretisation, and the solid's own choices
+/// bound directly (sph::SolidNumerics: hourglass control and time step).
+struct SolidSceneNumerics {
+  Discretisation discretisation{1.3, "wendland_c4", 0};
+  sph::SolidNumerics solid;
 };
 
-void declare_solid_numerics(sph::Parameters& p, SolidNumerics& n, const std::string& time_unit);
+void declare_solid_numerics(sph::Parameters& p, SolidSceneNumerics& n, const std::string& time_unit);
 
 /// Throws ParameterError naming `name` unless extent / spacing is a whole number.
 void check_whole_spacings(double extent, double spacing, const std::string& name);
-
-/// Copies the numerical settings into the solid's settings.
-template <int Dim>
-void apply_solid_numerics(const SolidNumerics& n, typename sph::ElasticSolid<Dim>::Settings& settings) {
-  settings.hourglass_coefficient = static_cast<sph::Real>(n.hourglass_coefficient);
-  settings.cfl = static_cast<sph::Real>(n.cfl);
-  settings.fixed_time_step = static_cast<sph::Real>(n.time_step);
-}
 
 struct SolidRunPlan {
   std::string scene;                 ///< name shown in the progress line
@@ -67,11 +58,5 @@ SolidRunSummary run_solid(sph::ElasticSolid<Dim>& solid, const sph::NeighbourLis
 template <int Dim>
 std::vector<sph::Index> select_particles(const sph::ParticleSet<Dim>& body,
                                          const std::function<bool(const sph::Vec<Dim>&)>& inside);
-
-/// Position at the reference point P of a solid by a first-order (linear) reconstruction from the
-/// particles within one support of P: x(P) = sum_i w_i (x_i + F_i (P - X_i)) / sum_i w_i, w = W(|P - X_i|).
-template <int Dim>
-sph::Vec<Dim> deformed_position_of(sph::ElasticSolid<Dim>& solid, const sph::AnyKernel<Dim>& kernel,
-                                   sph::Real smoothing_length, const sph::Vec<Dim>& reference_point);
 
 }  // namespace cardiosph

@@ -33,7 +33,7 @@ struct OscillatingBeamParameters {
   double poisson_ratio = 0.3975;
   double velocity_factor = 0.05;  ///< vf: tip speed vf c0, c0 = sqrt(K / rho)
   std::string material = "neo_hookean";  ///< neo_hookean or saint_venant_kirchhoff
-  SolidNumerics numerics;
+  SolidSceneNumerics numerics;
 };
 
 struct CantileverParameters {
@@ -48,7 +48,7 @@ struct CantileverParameters {
   double exponent = 1;         ///< b of the isotropic exponential law
   double kick_y = 5 * 1.7320508075688772;  ///< [m/s] initial velocity of the free part
   double kick_z = 5;
-  SolidNumerics numerics;
+  SolidSceneNumerics numerics;
 };
 
 struct TwistingColumnParameters {
@@ -60,7 +60,7 @@ struct TwistingColumnParameters {
   double young_modulus = 1.7e7;
   double poisson_ratio = 0.45;
   double angular_velocity = 105;  ///< [rad/s] omega0: omega(z) = omega0 sin(pi z / (2 height))
-  SolidNumerics numerics;
+  SolidSceneNumerics numerics;
 };
 
 struct LandBeamParameters {
@@ -73,7 +73,7 @@ struct LandBeamParameters {
   double bulk_modulus = 200;    ///< [kPa] volumetric penalty K (incompressibility)
   double density = 1;           ///< [mg/mm^3] (only sets the pseudo-dynamics of the relaxation)
   double damping_ratio = 1;     ///< fraction of critical damping of the first bending mode
-  SolidNumerics numerics;
+  SolidSceneNumerics numerics;
 };
 
 struct HomogeneousDeformationParameters {
@@ -86,7 +86,7 @@ struct HomogeneousDeformationParameters {
   double density = 1;          ///< [mg/mm^3]
   double damping_rate = 2;     ///< [1/ms] velocity damping while driven
   double boundary_layers = 1;  ///< driven layer thickness, in kernel supports
-  SolidNumerics numerics;
+  SolidSceneNumerics numerics;
 };
 
 std::unique_ptr<Scene> make_oscillating_beam_scene(OscillatingBeamParameters parameters = {});
