@@ -29,9 +29,6 @@ typename sph::ScalarDiffusionSystem<Dim>::Settings diffusion_settings(const type
   return d;
 }
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 }  // namespace
 
 template <int Dim>
@@ -70,27 +67,21 @@ template <int Dim>
 sph::Stage Monodomain<Dim>::stage(std::string name) {
   sph::Stage step{std::move(name), [this] { return settings_.numerics.time_step; }, {}};
   sph::Stage diffusion{"diffusion", [this] { return diffusion_.stable_time_step(); }, {}};
-  diffusion.then("diffusion", [this](Real t, Real dt) {
-    const auto start = std::chrono::steady_clock::now();
-    diffusion_.advance(t, dt);
-    ++diffusion_substeps_;
-    timings_.diffusion += seconds_since(start);
-  });
+  diffusion.then("diffusion", timers_.timed("diffusion", [this](Real t, Real dt) { diffusion_.advance(t, dt); }));
   step.then("store potential",
             [this](Real, Real) {
               const auto V = particles_.field(potential_);
               std::copy(V.begin(), V.end(), previous_potential_.begin());
             })
-      .then("reaction", [this](Real t, Real dt) { react(t, dt / 2); })
+      .then("reaction", timers_.timed("reaction", [this](Real t, Real dt) { react(t, dt / 2); }))
       .sub_cycle(std::move(diffusion))
-      .then("reaction", [this](Real t, Real dt) { react(t + dt / 2, dt / 2); })
+      .then("reaction", timers_.timed("reaction", [this](Real t, Real dt) { react(t + dt / 2, dt / 2); }))
       .then("activation", [this](Real t, Real dt) { record_activation(t, dt); });
   return step;
 }
 
 template <int Dim>
 void Monodomain<Dim>::react(Real time, Real dt) {
-  const auto start = std::chrono::steady_clock::now();
   bool any = false;
   for (const auto& region : settings_.stimuli) any = any || region.protocol.average(time, dt) != 0;
   if (any) {
@@ -102,7 +93,6 @@ void Monodomain<Dim>::react(Real time, Real dt) {
   }
   std::visit([&](auto& r) { r.advance(time, dt, any ? std::span<const Real>(stimulus_) : std::span<const Real>()); },
              reaction_);
-  timings_.reaction += seconds_since(start);
 }
 
 template <int Dim>

@@ -15,13 +15,13 @@
 // linear interpolation within the step. The diffusion is the anisotropic SPH operator of
 // libsph/diffusion with conductivity tensors D_t I + (D_l - D_t) f (x) f from the fibres.
 
-#include <chrono>
 #include <string>
 #include <variant>
 #include <vector>
 
 #include "libsph/core/neighbour_relation.hpp"
 #include "libsph/core/particles.hpp"
+#include "libsph/core/section_timers.hpp"
 #include "libsph/core/time_stepper.hpp"
 #include "libsph/diffusion/diffusion_system.hpp"
 #include "libsph/reaction/cell_models.hpp"
@@ -100,8 +100,8 @@ class Monodomain {
   bool all_activated() const;
   /// Latest activation time over the particles [ms], or -1 if some particle is not activated.
   Real latest_activation() const;
-  const Timings& timings() const { return timings_; }
-  std::size_t diffusion_substeps() const { return diffusion_substeps_; }
+  Timings timings() const { return {timers_.seconds("reaction"), timers_.seconds("diffusion")}; }
+  std::size_t diffusion_substeps() const { return timers_.calls("diffusion"); }
   const Settings& settings() const { return settings_; }
   const sph::ParticleSet<Dim>& particles() const { return particles_; }
   /// The stimulus regions, which may be changed between steps (e.g. a pulse timed by the state).
@@ -120,8 +120,7 @@ class Monodomain {
   sph::ScalarDiffusionSystem<Dim> diffusion_;
   sph::FieldHandle<Real> potential_, activation_;
   std::vector<Real> stimulus_, previous_potential_;
-  Timings timings_;
-  std::size_t diffusion_substeps_ = 0;
+  sph::SectionTimers timers_;  // reaction and diffusion, for run reports
   sph::Stage step_;
 };
 

@@ -13,6 +13,7 @@
 #include "geometry/lattice.hpp"
 #include "libsph/core/interaction.hpp"
 #include "libsph/core/neighbour_relation.hpp"
+#include "libsph/core/parallel.hpp"
 #include "libsph/core/time_stepper.hpp"
 #include "libsph/diffusion/diffusion_contact.hpp"
 #include "libsph/diffusion/diffusion_system.hpp"
@@ -69,33 +70,47 @@ double exact(double x, double t, double D_left, double D_right) {
   return interface_value * std::erfc(s / (2 * std::sqrt(D_right * t)));
 }
 
+/// The two blocks with the right one sub-cycling inside each step of the left one, run to end_time.
+struct TwoBlockRun {
+  Block left, right;
+  sph::ContactRelation<2> left_from_right, right_from_left;
+  std::size_t left_steps = 0, right_steps = 0;
+  double initial_amount = 0;
+
+  TwoBlockRun(Real D_left, Real D_right, Real end_time, const sph::AnyKernel<2>& kernel)
+      : left("left", 0, interface, D_left, 1, kernel),
+        right("right", interface, 1, D_right, 0, kernel),
+        left_from_right(sph::build_contact_relation<2>(left.body.position, right.body.position, kernel, h)),
+        right_from_left(sph::build_contact_relation<2>(right.body.position, left.body.position, kernel, h)) {
+    initial_amount = left.amount() + right.amount();
+    // The right block diffuses four times faster, so its stable step is a quarter of the left's:
+    // it sub-cycles inside each step of the left block against the left held at the step's start,
+    // then the left block takes its step against the right's average over those sub-steps.
+    sph::SubStepAverage<2> right_average(right.diffusion);
+    sph::Stage fast = right.stage("right");
+    fast.then("average", [&](Real, Real ds) {  // the state a forward-Euler sub-step starts from
+      right_average.add(ds);
+      ++right_steps;
+    });
+    right.add_phases(fast, left.diffusion, right_from_left);
+    sph::Stage step = left.stage("left");
+    step.then("reset average", [&](Real, Real) { right_average.reset(); })
+        .sub_cycle(std::move(fast))
+        .then("finish average", [&](Real, Real) { right_average.finish(); });
+    left.add_phases(step, right_average, left_from_right);
+    sph::TimeStepper stepper(0, end_time);
+    stepper.add_stage(std::move(step));
+    left_steps = stepper.run();
+  }
+};
+
 TEST(Interactions, TwoBlocksInContactWithNestedStagesMatchTheCompositeMediumSolution) {
   const Real D_left = Real(1e-4), D_right = Real(4e-4), end_time = 20;
-  const auto kernel = sph::make_kernel<2>("wendland_c2");
-  Block left("left", 0, interface, D_left, 1, kernel), right("right", interface, 1, D_right, 0, kernel);
-  const auto left_from_right = sph::build_contact_relation<2>(left.body.position, right.body.position, kernel, h);
-  const auto right_from_left = sph::build_contact_relation<2>(right.body.position, left.body.position, kernel, h);
-  const double initial_amount = left.amount() + right.amount();
-
-  // The right block diffuses four times faster, so its stable step is a quarter of the left's: it
-  // sub-cycles inside each step of the left block against the left held at the step's start, then
-  // the left block takes its step against the right's average over those sub-steps (conservative).
-  std::size_t right_steps = 0;
-  sph::SubStepAverage<2> right_average(right.diffusion);
-  sph::Stage fast = right.stage("right");
-  fast.then("average", [&](Real, Real ds) {  // the state a forward-Euler sub-step starts from
-    right_average.add(ds);
-    ++right_steps;
-  });
-  right.add_phases(fast, left.diffusion, right_from_left);
-  sph::Stage step = left.stage("left");
-  step.then("reset average", [&](Real, Real) { right_average.reset(); })
-      .sub_cycle(std::move(fast))
-      .then("finish average", [&](Real, Real) { right_average.finish(); });
-  left.add_phases(step, right_average, left_from_right);
-  sph::TimeStepper stepper(0, end_time);
-  stepper.add_stage(std::move(step));
-  const std::size_t left_steps = stepper.run();
+  const TwoBlockRun run(D_left, D_right, end_time, sph::make_kernel<2>("wendland_c2"));
+  const Block& left = run.left;
+  const Block& right = run.right;
+  const std::size_t left_steps = run.left_steps, right_steps = run.right_steps;
+  const double initial_amount = run.initial_amount;
 
   // Error on the rows farther than one kernel support (2h) from the walls y = 0 and y = height,
   // where the uncorrected operator sees a truncated support.
@@ -121,6 +136,20 @@ TEST(Interactions, TwoBlocksInContactWithNestedStagesMatchTheCompositeMediumSolu
   EXPECT_LT(l2, 1e-2);                     // bound: 1 % in L2 on the interior rows
   EXPECT_LT(interface_error, 1e-2);        // the interface value C_i = 1/3 to 0.01
   EXPECT_LT(std::abs(amount_change), test::bound(1e-12, 1e-5));  // conservative multi-rate exchange
+}
+
+TEST(Interactions, NestedCoupledRunIsBitwiseTheSameOnOneAndTwoThreads) {
+  const auto kernel = sph::make_kernel<2>("wendland_c2");
+  auto fields = [&](std::size_t threads) {
+    sph::ThreadLimit limit(threads);
+    const TwoBlockRun run(Real(1e-4), Real(4e-4), Real(2), kernel);
+    const auto L = run.left.body.field(run.left.diffusion.value_field());
+    const auto R = run.right.body.field(run.right.diffusion.value_field());
+    std::vector<Real> all(L.begin(), L.end());
+    all.insert(all.end(), R.begin(), R.end());
+    return all;
+  };
+  EXPECT_EQ(fields(1), fields(2));
 }
 
 TEST(Interactions, TwoBlocksOfEqualDiffusivityDiffuseAsOneBody) {
