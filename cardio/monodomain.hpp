@@ -117,7 +117,7 @@ class Monodomain {
   sph::ParticleSet<Dim>& particles_;
   Settings settings_;
   Reaction reaction_;
-  sph::ScalarDiffusionSystem<Dim> diffusion_;
+  sph::ScalarDiffusionSystem<Dim> diffusion_;  // after reaction_: it diffuses reaction_'s potential, passed by handle
   sph::FieldHandle<Real> potential_, activation_;
   std::vector<Real> stimulus_, previous_potential_;
   sph::SectionTimers timers_;  // reaction and diffusion, for run reports

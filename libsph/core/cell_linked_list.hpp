@@ -48,6 +48,11 @@ class CellLinkedList {
 
   Real cell_size() const { return cell_size_; }
   std::size_t n_cells() const { return cell_start_.size() - 1; }
+  /// Bytes held (cell offsets, binned indices and the sort's scratch).
+  std::size_t bytes() const {
+    return (cell_start_.capacity() + cell_of_.capacity() + next_.capacity()) * sizeof(std::size_t) +
+           cell_particles_.capacity() * sizeof(Index);
+  }
   /// The sources cell by cell (cells in memory order, sources by index within a cell).
   std::span<const Index> cell_order() const { return cell_particles_; }
 

@@ -39,9 +39,12 @@ struct NeighbourList {
   std::size_t n_targets() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   std::size_t n_pairs() const { return neighbour.size(); }
   std::size_t n_neighbours(std::size_t i) const { return offsets[i + 1] - offsets[i]; }
-  /// Bytes held per stored pair (index and cached kernel data), plus the row offsets.
+  /// Bytes held per stored pair (index and cached kernel data).
   static constexpr std::size_t bytes_per_pair = sizeof(Index) + 3 * sizeof(Real) + sizeof(Vec<Dim>);
-  std::size_t bytes() const { return n_pairs() * bytes_per_pair + offsets.size() * sizeof(std::size_t); }
+  /// Bytes held: the pairs, the row offsets, and the cell list and counts kept for rebuilds.
+  std::size_t bytes() const {
+    return n_pairs() * bytes_per_pair + (offsets.size() + row_count.capacity()) * sizeof(std::size_t) + cells.bytes();
+  }
 
   // Reused by rebuilds.
   CellLinkedList<Dim> cells;

@@ -5,9 +5,18 @@
 // The fit reproduces linear fields exactly, so a point on an edge or corner of the body (where a
 // Shepard average is biased inwards) is sampled to second order.
 //
+// The weights satisfy sum_j w_j = 1 and sum_j w_j (x_j - p) = 0, so for a field with the Taylor
+// expansion f(x) = f(p) + g.(x - p) + 1/2 (x - p).H (x - p) the fit is off by +1/2 sum_j w_j d_j.H d_j
+// (d_j = x_j - p). Where the particles also carry the gradient G_j of the field (the deformation
+// gradient F for the position field of a solid), sample_with_gradient takes
+//   f(p) = sum_j w_j (f_j - 1/2 G_j d_j),
+// whose quadratic terms cancel (f_j - 1/2 G_j d_j = f(p) + 1/2 g.d_j + O(d^3) with G_j = g + H d_j),
+// so it is exact on quadratic fields. Near a free surface, where the support is one-sided and spans
+// much of a thin wall, this removes the bias of the linear fit (e.g. an apex position under bending).
+//
 // Configurations. Built on the reference positions of a total-Lagrangian body, the weights are
-// fixed and a probe follows the material point: sampling the current positions gives where that
-// point has moved (exact for affine motion), sampling a field gives its value there. Built on the
+// fixed and a probe follows the material point: sampling the current positions (with F as their
+// gradient) gives where that point has moved, sampling a field gives its value there. Built on the
 // current positions (fluids, or points fixed in space), update() recomputes the weights after the
 // particles move. Any field type that is a vector space (Real, Vec<Dim>, Mat<Dim>) can be sampled.
 
@@ -36,6 +45,7 @@ class PointProbes {
   void update(std::span<const Vec<Dim>> positions, std::span<const Real> volumes) {
     rebuild_contact_relation<Dim>(relation_, points_, positions, kernel_, smoothing_length_);
     weight_.resize(relation_.n_pairs());
+    offset_.resize(relation_.n_pairs());
     using Matrix = Eigen::Matrix<double, Dim + 1, Dim + 1>;
     using Vector = Eigen::Matrix<double, Dim + 1, 1>;
     const auto& offsets = relation_.offsets;
@@ -55,6 +65,7 @@ class PointProbes {
         Vector basis;
         basis << 1, (positions[source[k]] - points_[p]).template cast<double>();
         weight_[k] = double(volumes[source[k]] * relation_.kernel_value[k]) * row.dot(basis);
+        offset_[k] = positions[source[k]] - points_[p];
       }
     }
   }
@@ -77,6 +88,17 @@ class PointProbes {
       value += Real(weight_[k]) * field[relation_.neighbour[k]];
     return value;
   }
+  /// The value at point p of a field with known gradients (exact on quadratic fields, see above):
+  /// sum_j w_j (f_j - 1/2 G_j (x_j - p)), with x_j the positions the probes were last built on.
+  template <class T, class Gradient>
+  T sample_with_gradient(std::size_t p, std::span<const T> field, std::span<const Gradient> gradient) const {
+    T value = field[0] * Real(0);
+    for (std::size_t k = relation_.offsets[p]; k < relation_.offsets[p + 1]; ++k) {
+      const Index j = relation_.neighbour[k];
+      value += Real(weight_[k]) * (field[j] - Real(0.5) * (gradient[j] * offset_[k]));
+    }
+    return value;
+  }
   /// True if every particle that contributes to point p satisfies `predicate` on its value.
   template <class Predicate>
   bool all_sources(std::size_t p, std::span<const Real> field, Predicate&& predicate) const {
@@ -91,6 +113,7 @@ class PointProbes {
   Real smoothing_length_;
   ContactRelation<Dim> relation_;
   std::vector<double> weight_;
+  std::vector<Vec<Dim>> offset_;  ///< x_j - p of each pair
 };
 
 }  // namespace sph

@@ -128,16 +128,18 @@ class LandLvScene final : public Scene {
 
     const Vec3 endo_apex(0, 0, -17), epi_apex(0, 0, -20), mid_apex(0, 0, Real(-18.5));
     const sph::PointProbes<3> apex({endo_apex, epi_apex, mid_apex}, X, body.volume, kernel, h);  // reference configuration
-    auto apex_z = [&](std::size_t p) { return double(apex.sample_value<Vec3>(p, body.position)[2]); };
+    auto apex_z = [&](std::size_t p) {  // F must be current
+      return double(apex.sample_with_gradient<Vec3, sph::Mat<3>>(p, body.position, body.field(solid.deformation_gradient_field()))[2]);
+    };
     double endo_z_at_nine_tenths = std::nan("");
     SolidRunPlan plan;
     plan.scene = "land-lv";
-    plan.body = "lv";
     plan.end_time = p_.end_time;
     plan.output_interval = p_.numerics.discretisation.output_interval;
     plan.before_step = [&](Real t, Real dt) { set_tension(double(t + dt / 2)); };
     plan.observer_columns = {"endo_z", "epi_z", "midwall_z", "lv_volume"};
     plan.observers = [&](const sph::StepInfo& s) {
+      solid.update_deformation_gradient();
       const double endo = apex_z(0), epi = apex_z(1), mid = apex_z(2);
       const double volume = lv.volume(body.position, body.field(solid.deformation_gradient_field()), X);
       if (std::isnan(endo_z_at_nine_tenths) && s.time >= 0.9 * p_.end_time) endo_z_at_nine_tenths = endo;
@@ -146,6 +148,7 @@ class LandLvScene final : public Scene {
     set_tension(0);
     run_solid<3>(solid, relation, plan, ctx);
 
+    solid.update_deformation_gradient();
     const double endo = apex_z(0), epi = apex_z(1), mid = apex_z(2);
     auto& r = ctx.report;
     const ProblemReference& ref = p3 ? problem3 : problem2;

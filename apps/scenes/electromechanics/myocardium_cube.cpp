@@ -94,15 +94,17 @@ class MyocardiumCubeScene final : public Scene {
       for (const char* q : {"ux", "uy", "uz"}) header.push_back("corner" + std::to_string(c) + "_" + q);
     const sph::PointProbes<3> corner_probes(corners, X, body.volume, kernel, h);  // reference configuration
     auto corner_displacements = [&] {
+      solid.update_deformation_gradient();
       std::vector<Vec3> u;
       for (std::size_t c = 0; c < corners.size(); ++c)
-        u.push_back(corner_probes.sample_value<Vec3>(c, body.position) - corners[c]);
+        u.push_back(corner_probes.sample_with_gradient<Vec3, sph::Mat<3>>(c, body.position,
+                                                                           body.field(solid.deformation_gradient_field())) -
+                    corners[c]);
       return u;
     };
 
     SolidRunPlan plan;
     plan.scene = "myocardium-cube";
-    plan.body = "cube";
     plan.end_time = p_.end_time;
     plan.output_interval = p_.numerics.discretisation.output_interval;
     plan.observer_columns = header;

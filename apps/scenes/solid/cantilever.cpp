@@ -71,11 +71,13 @@ class CantileverScene final : public Scene {
 
     const Vec3 tip_point(L, T / 2, T / 2);
     const sph::PointProbes<3> tip_probe({tip_point}, body.position, body.volume, kernel, h);  // reference configuration
-    auto tip_position = [&] { return tip_probe.sample_value<Vec3>(0, body.position); };
+    auto tip_position = [&] {
+      solid.update_deformation_gradient();
+      return tip_probe.sample_with_gradient<Vec3, sph::Mat<3>>(0, body.position, body.field(solid.deformation_gradient_field()));
+    };
     double max_deflection = 0;
     SolidRunPlan plan;
     plan.scene = "cantilever";
-    plan.body = "beam";
     plan.end_time = p_.end_time;
     plan.output_interval = p_.numerics.discretisation.output_interval;
     plan.observer_columns = {"tip_x", "tip_y", "tip_z"};
@@ -157,7 +159,6 @@ class TwistingColumnScene final : public Scene {
     };
     SolidRunPlan plan;
     plan.scene = "twisting-column";
-    plan.body = "column";
     plan.end_time = p_.end_time;
     plan.output_interval = p_.numerics.discretisation.output_interval;
     plan.every_step = [&](const sph::StepInfo&) {

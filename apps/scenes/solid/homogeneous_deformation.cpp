@@ -110,7 +110,6 @@ class HomogeneousDeformationScene final : public Scene {
 
       SolidRunPlan plan;
       plan.scene = "homogeneous-deformation " + mode.name;
-      plan.body = mode.name;
       plan.end_time = p_.end_time;
       plan.output_interval = p_.numerics.discretisation.output_interval;
       steps += run_solid<3>(solid, relation, plan, ctx).steps;

@@ -84,7 +84,6 @@ class OscillatingBeamScene final : public Scene {
 
     SolidRunPlan plan;
     plan.scene = "oscillating-beam";
-    plan.body = "plate";
     plan.end_time = p_.end_time;
     plan.output_interval = p_.numerics.discretisation.output_interval;
     plan.observer_columns = {"tip_deflection"};

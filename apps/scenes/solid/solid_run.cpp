@@ -32,13 +32,13 @@ SolidRunSummary run_solid(sph::ElasticSolid<Dim>& solid, const sph::NeighbourLis
 
   sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, plan.scene, ctx.quiet});
   run.add_body(body, static_cast<sph::Real>(plan.output_interval), [&](double) { solid.update_output_fields(); });
-  run.add_relation(plan.body, relation);
+  run.add_relation(body.name(), relation);
 
   SolidRunSummary summary;
   double max_energy = 0;
   std::vector<double> energy_samples;
   const auto sample_interval = static_cast<sph::Real>(plan.sample_interval > 0 ? plan.sample_interval : plan.end_time / 100);
-  run.add_time_series(plan.body + "_energy.csv", {"kinetic", "strain", "total", "min_J", "max_J"}, sample_interval,
+  run.add_time_series(body.name() + "_energy.csv", {"kinetic", "strain", "total", "min_J", "max_J"}, sample_interval,
                       [&](const sph::StepInfo&) {
                         const auto e = solid.energies();  // also leaves F at the current positions
                         summary.min_jacobian = std::min<double>(summary.min_jacobian, e.min_jacobian);

@@ -29,7 +29,6 @@ void check_whole_spacings(double extent, double spacing, const std::string& name
 
 struct SolidRunPlan {
   std::string scene;                 ///< name shown in the progress line
-  std::string body;                  ///< body name of the output files
   double end_time = 0;
   double output_interval = 0;        ///< 0: first and last state only
   double sample_interval = 0;        ///< observers and energies (0: end_time / 100)
@@ -46,7 +45,8 @@ struct SolidRunSummary {
   double min_jacobian = 1, max_jacobian = 1;
 };
 
-/// Runs the solid from t = 0 to the end time. Writes <body>_*.vtu + <body>.pvd, <body>_energy.csv
+/// Runs the solid from t = 0 to the end time. Writes, named after its particle set,
+/// <body>_*.vtu + <body>.pvd, <body>_energy.csv
 /// (time, kinetic, strain, total, J range) and observers.csv into ctx.output_dir; fills steps,
 /// particles, memory and time step in ctx.report. On NumericalFailure the restored last good state
 /// is written, then the error is rethrown (the run ends as failed, exit code 1).
