@@ -6,6 +6,8 @@
 #include <fstream>
 #include <iomanip>
 #include <sstream>
+#include <limits>
+#include <type_traits>
 
 #include <toml++/toml.h>
 
@@ -85,84 +87,43 @@ void Parameters::add_entry(Entry e) {
   entries_.push_back(std::move(e));
 }
 
-void Parameters::add(const std::string& key, double& value, const std::string& unit, const std::string& help,
-                     Range range) {
+// One entry for any arithmetic member: parsed and checked as a double, stored as T; integer types
+// also reject fractions and values beyond their range.
+template <class T>
+void Parameters::add_number(const std::string& key, T& value, const std::string& unit, const std::string& help,
+                            Range range) {
+  constexpr bool integer = std::is_integral_v<T>;
   Entry e{key, unit, help, range, {}, {}, {}, {}, {}};
-  auto check = [key, range, unit](double v, const std::string& origin) {
+  auto text_of = [](double v) { return integer ? std::to_string(static_cast<long long>(v)) : format_number(v); };
+  auto check = [key, range, unit, text_of](double v, const std::string& origin) {
     if (!std::isfinite(v) || !range.contains(v))
-      throw ParameterError("parameter " + quoted(key) + where(origin) + " = " + format_number(v) + ": must be " +
+      throw ParameterError("parameter " + quoted(key) + where(origin) + " = " + text_of(v) + ": must be " +
                            range.describe() + (unit.empty() || unit == "-" ? "" : " [" + unit + "]"));
   };
   e.parse = [&value, key, check](const std::string& text, const std::string& origin) {
     const double v = parse_double(key, text, origin);
-    check(v, origin);
-    value = v;
-  };
-  e.text = [&value] { return format_number(value); };
-  e.json = [&value] { return nlohmann::json(value); };
-  e.check = [&value, check](const std::string& origin) { check(value, origin); };
-  add_entry(std::move(e));
-}
-
-void Parameters::add(const std::string& key, float& value, const std::string& unit, const std::string& help,
-                     Range range) {
-  Entry e{key, unit, help, range, {}, {}, {}, {}, {}};
-  auto check = [key, range, unit](double v, const std::string& origin) {
-    if (!std::isfinite(v) || !range.contains(v))
-      throw ParameterError("parameter " + quoted(key) + where(origin) + " = " + format_number(v) + ": must be " +
-                           range.describe() + (unit.empty() || unit == "-" ? "" : " [" + unit + "]"));
-  };
-  e.parse = [&value, key, check](const std::string& text, const std::string& origin) {
-    const double v = parse_double(key, text, origin);
-    check(v, origin);
-    value = static_cast<float>(v);
-  };
-  e.text = [&value] { return format_number(value); };
-  e.json = [&value] { return nlohmann::json(double(value)); };
-  e.check = [&value, check](const std::string& origin) { check(value, origin); };
-  add_entry(std::move(e));
-}
-
-void Parameters::add(const std::string& key, int& value, const std::string& unit, const std::string& help,
-                     Range range) {
-  Entry e{key, unit, help, range, {}, {}, {}, {}, {}};
-  auto check = [key, range, unit](long v, const std::string& origin) {
-    if (!range.contains(static_cast<double>(v)))
-      throw ParameterError("parameter " + quoted(key) + where(origin) + " = " + std::to_string(v) + ": must be " +
-                           range.describe() + (unit.empty() || unit == "-" ? "" : " [" + unit + "]"));
-  };
-  e.parse = [&value, key, check](const std::string& text, const std::string& origin) {
-    const double v = parse_double(key, text, origin);
-    if (v != std::floor(v) || std::abs(v) > 2e9)
+    if (integer && (v != std::floor(v) || std::abs(v) >= double(std::numeric_limits<T>::max())))
       throw ParameterError("parameter " + quoted(key) + where(origin) + ": " + quoted(text) + " is not an integer");
-    check(static_cast<long>(v), origin);
-    value = static_cast<int>(v);
+    check(v, origin);
+    value = static_cast<T>(v);
   };
-  e.text = [&value] { return std::to_string(value); };
+  e.text = [&value, text_of] { return text_of(double(value)); };
   e.json = [&value] { return nlohmann::json(value); };
-  e.check = [&value, check](const std::string& origin) { check(value, origin); };
+  e.check = [&value, check](const std::string& origin) { check(double(value), origin); };
   add_entry(std::move(e));
 }
 
-void Parameters::add(const std::string& key, long& value, const std::string& unit, const std::string& help,
-                     Range range) {
-  Entry e{key, unit, help, range, {}, {}, {}, {}, {}};
-  auto check = [key, range, unit](long v, const std::string& origin) {
-    if (!range.contains(static_cast<double>(v)))
-      throw ParameterError("parameter " + quoted(key) + where(origin) + " = " + std::to_string(v) + ": must be " +
-                           range.describe() + (unit.empty() || unit == "-" ? "" : " [" + unit + "]"));
-  };
-  e.parse = [&value, key, check](const std::string& text, const std::string& origin) {
-    const double v = parse_double(key, text, origin);
-    if (v != std::floor(v) || std::abs(v) > 1e15)
-      throw ParameterError("parameter " + quoted(key) + where(origin) + ": " + quoted(text) + " is not an integer");
-    check(static_cast<long>(v), origin);
-    value = static_cast<long>(v);
-  };
-  e.text = [&value] { return std::to_string(value); };
-  e.json = [&value] { return nlohmann::json(value); };
-  e.check = [&value, check](const std::string& origin) { check(value, origin); };
-  add_entry(std::move(e));
+void Parameters::add(const std::string& key, double& value, const std::string& unit, const std::string& help, Range range) {
+  add_number(key, value, unit, help, range);
+}
+void Parameters::add(const std::string& key, float& value, const std::string& unit, const std::string& help, Range range) {
+  add_number(key, value, unit, help, range);
+}
+void Parameters::add(const std::string& key, int& value, const std::string& unit, const std::string& help, Range range) {
+  add_number(key, value, unit, help, range);
+}
+void Parameters::add(const std::string& key, long& value, const std::string& unit, const std::string& help, Range range) {
+  add_number(key, value, unit, help, range);
 }
 
 void Parameters::add(const std::string& key, bool& value, const std::string& help) {

@@ -105,6 +105,8 @@ class Parameters {
     std::function<void(const std::string&)> check;  // origin
   };
   Entry& entry(const std::string& key, const std::string& origin);
+  template <class T>
+  void add_number(const std::string& key, T& value, const std::string& unit, const std::string& help, Range range);
   void add_named_choice(const std::string& key, std::vector<std::string> choices, const std::string& help,
                         std::function<void(std::size_t)> select, std::function<std::string()> current);
   void add_entry(Entry e);
