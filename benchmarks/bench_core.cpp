@@ -1,4 +1,6 @@
-// Measures the 3D neighbour-list build and one kernel summation over it; run build/benchmarks/bench_core.
+// Measures the 3D neighbour-list build (anew and rebuilt in place) and one kernel summation over it,
+// with the particles in lattice order, shuffled, or shuffled and then sorted along the cell list;
+// run build/benchmarks/bench_core.
 
 #include <cstddef>
 #include <cstdint>
@@ -11,6 +13,7 @@
 #include "libsph/core/kernels.hpp"
 #include "libsph/core/neighbour_relation.hpp"
 #include "libsph/core/parallel.hpp"
+#include "libsph/core/particle_sorting.hpp"
 #include "libsph/core/types.hpp"
 
 namespace {
@@ -33,6 +36,37 @@ std::vector<sph::Vec<3>> jittered_lattice(std::size_t side) {
   return positions;
 }
 
+/// The positions in a fixed-seed random order (Fisher-Yates on the engine's raw bits).
+std::vector<sph::Vec<3>> shuffled(std::vector<sph::Vec<3>> positions) {
+  std::mt19937_64 engine(7);
+  for (std::size_t i = positions.size(); i > 1; --i) std::swap(positions[i - 1], positions[engine() % i]);
+  return positions;
+}
+
+/// Order 0: lattice order; 1: shuffled; 2: shuffled, then sorted along the cell list.
+std::vector<sph::Vec<3>> positions_in_order(std::size_t side, long order) {
+  auto positions = jittered_lattice(side);
+  if (order == 0) return positions;
+  positions = shuffled(std::move(positions));
+  if (order == 1) return positions;
+  const auto permutation = sph::cell_order<3>(positions, 2 * smoothing_length);
+  std::vector<sph::Vec<3>> sorted(positions.size());
+  for (std::size_t k = 0; k < sorted.size(); ++k) sorted[k] = positions[permutation[k]];
+  return sorted;
+}
+
+void bm_rebuild_inner_relation_in_place(benchmark::State& state) {
+  const auto positions = jittered_lattice(static_cast<std::size_t>(state.range(0)));
+  const sph::AnyKernel<3> kernel = sph::WendlandC2<3>{};
+  auto relation = sph::build_inner_relation<3>(std::span<const sph::Vec<3>>(positions), kernel, smoothing_length);
+  for (auto _ : state) {
+    sph::rebuild_inner_relation<3>(relation, std::span<const sph::Vec<3>>(positions), kernel, smoothing_length);
+    benchmark::DoNotOptimize(relation.neighbour.data());
+  }
+  state.counters["particles_per_second"] =
+      benchmark::Counter(static_cast<double>(positions.size()), benchmark::Counter::kIsIterationInvariantRate);
+}
+
 void bm_build_inner_relation(benchmark::State& state) {
   const auto positions = jittered_lattice(static_cast<std::size_t>(state.range(0)));
   const sph::AnyKernel<3> kernel = sph::WendlandC2<3>{};
@@ -50,7 +84,7 @@ void bm_build_inner_relation(benchmark::State& state) {
 }
 
 void bm_kernel_summation(benchmark::State& state) {
-  const auto positions = jittered_lattice(static_cast<std::size_t>(state.range(0)));
+  const auto positions = positions_in_order(static_cast<std::size_t>(state.range(0)), state.range(1));
   const sph::AnyKernel<3> kernel = sph::WendlandC2<3>{};
   const auto relation =
       sph::build_inner_relation<3>(std::span<const sph::Vec<3>>(positions), kernel, smoothing_length);
@@ -82,6 +116,12 @@ void bm_kernel_summation(benchmark::State& state) {
 }  // namespace
 
 BENCHMARK(bm_build_inner_relation)->Arg(46)->Arg(100)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(bm_kernel_summation)->Arg(46)->Arg(100)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(bm_rebuild_inner_relation_in_place)->Arg(46)->Arg(100)->Unit(benchmark::kMillisecond)->UseRealTime();
+// Second argument: 0 lattice order, 1 shuffled, 2 shuffled then sorted along the cell list.
+BENCHMARK(bm_kernel_summation)
+    ->ArgsProduct({{46, 100}, {0, 1, 2}})
+    ->ArgNames({"side", "order"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 BENCHMARK_MAIN();
