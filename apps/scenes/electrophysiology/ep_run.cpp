@@ -26,7 +26,7 @@ EpTraces run_monodomain(cardio::Monodomain<Dim>& monodomain, sph::ParticleSet<Di
   });
   sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, plan.scene, ctx.quiet});
   run.add_body(body, static_cast<sph::Real>(plan.output_interval));
-  run.add_relation(plan.body, relation);
+  run.add_relation(body.name(), relation);
   std::vector<std::string> columns;
   for (std::size_t p = 0; p < probes.size(); ++p)
     columns.push_back((p < plan.probe_names.size() ? plan.probe_names[p] : "P" + std::to_string(p)) + "_potential");

@@ -27,7 +27,6 @@ void declare_ep_numerics(sph::Parameters& p, EpSceneNumerics& n, const std::stri
 
 struct EpRunPlan {
   std::string scene;                     ///< name shown in the progress line
-  std::string body;                      ///< body name of the output files
   double end_time = 0;
   double output_interval = 0;            ///< 0: first and last state only
   double sample_interval = 0;            ///< observers (0: end_time / 1000)
@@ -42,8 +41,8 @@ struct EpTraces {
   std::vector<std::vector<double>> potential;  ///< [probe][sample]
 };
 
-/// Runs the monodomain from t = 0. Writes <body>_*.vtu + <body>.pvd and observers.csv (time and
-/// the potential at each probe) into ctx.output_dir; fills steps, particles, memory, simulated time
+/// Runs the monodomain from t = 0. Writes, named after the particle set, <body>_*.vtu + <body>.pvd,
+/// and observers.csv (time and the potential at each probe) into ctx.output_dir; fills steps, particles, memory, simulated time
 /// and the timings (reaction, diffusion, cell updates per second) in ctx.report.
 template <int Dim>
 EpTraces run_monodomain(cardio::Monodomain<Dim>& monodomain, sph::ParticleSet<Dim>& body,

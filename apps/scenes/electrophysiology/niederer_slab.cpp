@@ -79,7 +79,7 @@ class NiedererSlabScene final : public Scene {
     cardio::Monodomain<3> monodomain(body, relation, settings);
 
     const sph::PointProbes<3> probes(std::vector<Vec3>(points.begin(), points.end()), body.position, body.volume, kernel, h);
-    EpRunPlan plan{"niederer-slab", "slab", p_.end_time, p_.numerics.discretisation.output_interval, 0.5, true,
+    EpRunPlan plan{"niederer-slab", p_.end_time, p_.numerics.discretisation.output_interval, 0.5, true,
                    {"P1", "P2", "P3", "P4", "P5", "P6", "P7", "P8", "P9"}, {}};
     run_monodomain<3>(monodomain, body, relation, probes, plan, ctx);
 
