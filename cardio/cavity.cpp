@@ -32,7 +32,14 @@ double closed_cavity_volume(std::span<const sph::Vec<3>> vertices, std::span<con
 
 std::vector<sph::Vec<3>> CavitySurface::moved_vertices(std::span<const sph::Vec<3>> x, std::span<const sph::Mat<3>> F,
                                                        std::span<const sph::Vec<3>> X) const {
-  std::vector<sph::Vec<3>> moved(reference_vertices.size());
+  std::vector<sph::Vec<3>> moved;
+  move_vertices(x, F, X, moved);
+  return moved;
+}
+
+void CavitySurface::move_vertices(std::span<const sph::Vec<3>> x, std::span<const sph::Mat<3>> F,
+                                  std::span<const sph::Vec<3>> X, std::vector<sph::Vec<3>>& moved) const {
+  moved.resize(reference_vertices.size());
   sph::parallel_for(moved.size(), [&](std::size_t v) {
     const sph::Vec<3>& P = reference_vertices[v];
     sph::Vec<3> sum = sph::Vec<3>::Zero();
@@ -42,14 +49,15 @@ std::vector<sph::Vec<3>> CavitySurface::moved_vertices(std::span<const sph::Vec<
     }
     moved[v] = sum;
   });
-  return moved;
 }
 
 void CavitySurface::add_pressure_forces(Real pressure, std::span<const sph::Vec<3>> x, std::span<const sph::Mat<3>> F,
                                         std::span<const sph::Vec<3>> X, std::span<sph::Vec<3>> force) const {
   if (pressure == 0) return;
-  const auto moved = moved_vertices(x, F, X);
-  std::vector<sph::Vec<3>> vertex_force(moved.size(), sph::Vec<3>::Zero());
+  auto& moved = moved_scratch_;
+  move_vertices(x, F, X, moved);
+  auto& vertex_force = vertex_force_scratch_;
+  vertex_force.assign(moved.size(), sph::Vec<3>::Zero());
   for (const auto& f : faces) {
     const sph::Vec<3> load = -pressure / 6 * (moved[f[1]] - moved[f[0]]).cross(moved[f[2]] - moved[f[0]]);  // a third of -p a n_a
     for (int k = 0; k < 3; ++k) vertex_force[f[k]] += load;

@@ -52,11 +52,19 @@ struct CavitySurface {
   /// Vertices at the current configuration (x, F and X of the particles).
   std::vector<sph::Vec<3>> moved_vertices(std::span<const sph::Vec<3>> x, std::span<const sph::Mat<3>> F,
                                           std::span<const sph::Vec<3>> X) const;
+  /// The same into `moved` (resized; its storage is reused from call to call).
+  void move_vertices(std::span<const sph::Vec<3>> x, std::span<const sph::Mat<3>> F, std::span<const sph::Vec<3>> X,
+                     std::vector<sph::Vec<3>>& moved) const;
   /// Adds the forces of cavity pressure p on the particles to `force` (see above).
   void add_pressure_forces(Real pressure, std::span<const sph::Vec<3>> x, std::span<const sph::Mat<3>> F,
                            std::span<const sph::Vec<3>> X, std::span<sph::Vec<3>> force) const;
   /// Cavity volume at the current configuration.
   double volume(std::span<const sph::Vec<3>> x, std::span<const sph::Mat<3>> F, std::span<const sph::Vec<3>> X) const;
+
+ private:
+  // Scratch of add_pressure_forces, kept so that the load allocates nothing once warm (the calls
+  // on one surface are sequential: one mechanics sub-step after another).
+  mutable std::vector<sph::Vec<3>> moved_scratch_, vertex_force_scratch_;
 };
 
 /// Volume of the cavity bounded by `faces` of `vertices`, closed by a fan at its border (see above).
