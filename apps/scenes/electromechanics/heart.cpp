@@ -307,12 +307,10 @@ class HeartRecorder {
   std::vector<double> observer_row() const {
     const auto V = heart_.body.field(heart_.monodomain.potential_field());
     const std::span<const Real> T(heart_.tension.tension());
-    const std::span<const Vec3> x(heart_.body.position);
-    const auto F = heart_.body.field(heart_.solid.deformation_gradient_field());  // current: the cavity row ran first
+    const auto x = material_point_positions<3>(probes_, heart_.solid);
     std::vector<double> row;
     for (std::size_t p = 0; p < probes_.size(); ++p)
-      row.insert(row.end(), {probes_.sample(p, V), probes_.sample(p, T),
-                             double((probes_.sample_with_gradient<Vec3, sph::Mat<3>>(p, x, F) - probes_.point(p)).norm())});
+      row.insert(row.end(), {probes_.sample(p, V), probes_.sample(p, T), double((x[p] - probes_.point(p)).norm())});
     return row;
   }
   void end_of_beat() {

@@ -94,12 +94,8 @@ class MyocardiumCubeScene final : public Scene {
       for (const char* q : {"ux", "uy", "uz"}) header.push_back("corner" + std::to_string(c) + "_" + q);
     const sph::PointProbes<3> corner_probes(corners, X, body.volume, kernel, h);  // reference configuration
     auto corner_displacements = [&] {
-      solid.update_deformation_gradient();
-      std::vector<Vec3> u;
-      for (std::size_t c = 0; c < corners.size(); ++c)
-        u.push_back(corner_probes.sample_with_gradient<Vec3, sph::Mat<3>>(c, body.position,
-                                                                           body.field(solid.deformation_gradient_field())) -
-                    corners[c]);
+      auto u = material_point_positions<3>(corner_probes, solid);
+      for (std::size_t c = 0; c < corners.size(); ++c) u[c] -= corners[c];
       return u;
     };
 

@@ -71,10 +71,7 @@ class CantileverScene final : public Scene {
 
     const Vec3 tip_point(L, T / 2, T / 2);
     const sph::PointProbes<3> tip_probe({tip_point}, body.position, body.volume, kernel, h);  // reference configuration
-    auto tip_position = [&] {
-      solid.update_deformation_gradient();
-      return tip_probe.sample_with_gradient<Vec3, sph::Mat<3>>(0, body.position, body.field(solid.deformation_gradient_field()));
-    };
+    auto tip_position = [&] { return material_point_positions<3>(tip_probe, solid)[0]; };
     double max_deflection = 0;
     SolidRunPlan plan;
     plan.scene = "cantilever";

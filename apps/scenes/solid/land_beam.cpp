@@ -82,10 +82,7 @@ class LandBeamScene final : public Scene {
 
     const Vec3 point(length, Real(0.5), 1);
     const sph::PointProbes<3> probe({point}, body.position, body.volume, kernel, h);  // reference configuration
-    auto tip_position = [&] {
-      solid.update_deformation_gradient();
-      return probe.sample_with_gradient<Vec3, sph::Mat<3>>(0, body.position, body.field(solid.deformation_gradient_field()));
-    };
+    auto tip_position = [&] { return material_point_positions<3>(probe, solid)[0]; };
     double z_at_nine_tenths = std::nan("");
     SolidRunPlan plan;
     plan.scene = "land-beam";

@@ -64,6 +64,17 @@ SolidRunSummary run_solid(sph::ElasticSolid<Dim>& solid, const sph::NeighbourLis
 }
 
 template <int Dim>
+std::vector<sph::Vec<Dim>> material_point_positions(const sph::PointProbes<Dim>& probes, sph::ElasticSolid<Dim>& solid) {
+  solid.update_deformation_gradient();
+  const auto& body = solid.particles();
+  const auto F = body.field(solid.deformation_gradient_field());
+  std::vector<sph::Vec<Dim>> x(probes.size());
+  for (std::size_t p = 0; p < probes.size(); ++p)
+    x[p] = probes.template sample_with_gradient<sph::Vec<Dim>, sph::Mat<Dim>>(p, body.position, F);
+  return x;
+}
+
+template <int Dim>
 std::vector<sph::Index> select_particles(const sph::ParticleSet<Dim>& body,
                                          const std::function<bool(const sph::Vec<Dim>&)>& inside) {
   std::vector<sph::Index> selected;
@@ -74,6 +85,8 @@ std::vector<sph::Index> select_particles(const sph::ParticleSet<Dim>& body,
 
 template SolidRunSummary run_solid<2>(sph::ElasticSolid<2>&, const sph::NeighbourList<2>&, const SolidRunPlan&, RunContext&);
 template SolidRunSummary run_solid<3>(sph::ElasticSolid<3>&, const sph::NeighbourList<3>&, const SolidRunPlan&, RunContext&);
+template std::vector<sph::Vec<2>> material_point_positions<2>(const sph::PointProbes<2>&, sph::ElasticSolid<2>&);
+template std::vector<sph::Vec<3>> material_point_positions<3>(const sph::PointProbes<3>&, sph::ElasticSolid<3>&);
 template std::vector<sph::Index> select_particles<2>(const sph::ParticleSet<2>&, const std::function<bool(const sph::Vec<2>&)>&);
 template std::vector<sph::Index> select_particles<3>(const sph::ParticleSet<3>&, const std::function<bool(const sph::Vec<3>&)>&);
 

@@ -9,6 +9,7 @@
 
 #include "apps/scenes/discretisation.hpp"
 #include "apps/scenes/scene.hpp"
+#include "libsph/core/point_probes.hpp"
 #include "libsph/core/time_stepper.hpp"
 #include "libsph/io/run_harness.hpp"
 #include "libsph/solid/elastic_solid.hpp"
@@ -53,6 +54,12 @@ struct SolidRunSummary {
 template <int Dim>
 SolidRunSummary run_solid(sph::ElasticSolid<Dim>& solid, const sph::NeighbourList<Dim>& relation,
                           const SolidRunPlan& plan, RunContext& ctx);
+
+/// Where the material points of `probes` (built on the solid's reference positions) are now: F is
+/// brought to the current positions, then each point is sampled with it (exact on quadratic motion,
+/// libsph/core/point_probes.hpp).
+template <int Dim>
+std::vector<sph::Vec<Dim>> material_point_positions(const sph::PointProbes<Dim>& probes, sph::ElasticSolid<Dim>& solid);
 
 /// Particles whose reference position satisfies `inside`.
 template <int Dim>
