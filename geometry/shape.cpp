@@ -39,6 +39,20 @@ class Box final : public Shape {
   double signed_distance(const Vec3& p) const override {
     return box_distance(p - 0.5 * (lower_ + upper_), 0.5 * (upper_ - lower_));
   }
+  // Exact gradient of the distance: outside, towards p from its nearest point of the box; inside,
+  // the outward normal of the nearest face.
+  Vec3 normal(const Vec3& p) const override {
+    const Vec3 nearest = p.cwiseMax(lower_).cwiseMin(upper_);
+    const Vec3 out = p - nearest;
+    if (out.norm() > 0) return out.normalized();
+    int face = 0;
+    double closest = infinity, sign = 1;
+    for (int k = 0; k < 3; ++k) {
+      if (p[k] - lower_[k] < closest) closest = p[k] - lower_[k], face = k, sign = -1;
+      if (upper_[k] - p[k] < closest) closest = upper_[k] - p[k], face = k, sign = 1;
+    }
+    return sign * Vec3::Unit(face);
+  }
   Aabb bounding_box() const override { return {lower_, upper_}; }
   std::optional<double> volume() const override { return (upper_ - lower_).prod(); }
   std::string describe() const override { return "box " + text(lower_) + " to " + text(upper_); }

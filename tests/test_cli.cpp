@@ -77,6 +77,21 @@ TEST_F(Cli, NegativeAnisotropicDiffusivityIsRejected) {
 TEST_F(Cli, TensorThatIsNotPositiveDefiniteIsRejected) {
   expect_rejected({"diffusion-aniso", "--set", "diffusivity_transverse=0"}, "not positive definite");
 }
+// Fluid scenes: bad input is refused before anything is written.
+TEST_F(Cli, SoundSpeedAboveMachPointThreeIsRefused) {
+  expect_rejected({"dambreak", "--set", "sound_speed=5"}, "parameter 'sound_speed' = 5");
+}
+TEST_F(Cli, NegativeViscosityIsRejected) { expect_rejected({"dambreak", "--set", "viscosity=-0.1"}, "'viscosity'"); }
+TEST_F(Cli, NegativeFluidDensityIsRejected) { expect_rejected({"dambreak", "--set", "density=-1"}, "'density'"); }
+TEST_F(Cli, WaterColumnLargerThanTheTankIsRejected) {
+  expect_rejected({"dambreak", "--set", "water_width=6"}, "does not fit in the tank");
+}
+TEST_F(Cli, SpacingLargerThanTheTankIsRejected) {
+  expect_rejected({"hydrostatic-tank", "--set", "tank_width=0.1", "--resolution", "4"}, "'tank_width'");
+}
+TEST_F(Cli, UnknownFluidSchemeIsRejected) {
+  expect_rejected({"taylor-green", "--set", "fluid_scheme=sph"}, "must be one of");
+}
 TEST_F(Cli, UnknownChoiceIsRejected) { expect_rejected({"diffusion", "--set", "kernel=gauss"}, "must be one of"); }
 TEST_F(Cli, MissingConfigIsRejected) {
   expect_rejected({"diffusion", "--config", (folder_ / "missing.toml").string()}, "cannot be read");

@@ -145,3 +145,20 @@ TEST(KernelSelection, ByNameAndRejectsUnknown) {
 }
 
 }  // namespace
+
+// The dimensionless shapes used by the neighbour search give the same W and dW/dr.
+TEST(Kernels, ShapeFunctionsMatchValueAndDerivative) {
+  auto check = []<class K>(K) {
+    const sph::Real h = sph::Real(0.37);
+    for (int s = 0; s < 200; ++s) {
+      const sph::Real r = sph::Real(s) * sph::Real(0.01) * h;
+      const sph::Real q = r / h;
+      EXPECT_NEAR(K::normalisation(h) * K::shape(q), K::value(r, h), 1e-12 * K::value(0, h)) << K::name << " q=" << q;
+      EXPECT_NEAR(K::normalisation(h) / h * K::shape_derivative(q), K::derivative(r, h), 1e-12 * K::value(0, h) / h)
+          << K::name << " q=" << q;
+    }
+  };
+  check(sph::WendlandC2<2>{});
+  check(sph::WendlandC4<3>{});
+  check(sph::CubicSplineM4<2>{});
+}

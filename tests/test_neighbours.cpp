@@ -173,3 +173,56 @@ TEST(Neighbours, SortingAlongTheCellListMovesEveryFieldWithItsParticle) {
 }
 
 }  // namespace
+
+// Periodic relations: the neighbours of every particle are those within the support under the
+// minimum-image distance, each original source once, with the distance and unit vector to the image.
+template <int Dim>
+void check_periodic(std::array<bool, Dim> periodic) {
+  const Real extent = 1, h = Real(0.06);
+  const auto points = random_points<Dim>(Dim == 2 ? 600 : 1500, extent, 7);
+  sph::PeriodicBox<Dim> box;
+  box.lower = sph::Vec<Dim>::Zero();
+  box.upper = sph::Vec<Dim>::Constant(extent);
+  box.periodic = periodic;
+  sph::InnerRelation<Dim> relation;
+  const sph::AnyKernel<Dim> kernel = sph::WendlandC2<Dim>{};
+  sph::rebuild_inner_relation<Dim>(relation, points, kernel, h, box);
+  const Real support = 2 * h;
+  std::vector<std::vector<Index>> expected(points.size());
+  std::size_t wrapped = 0;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    for (std::size_t j = 0; j < points.size(); ++j) {
+      if (i == j) continue;
+      sph::Vec<Dim> d = points[i] - points[j];
+      for (int a = 0; a < Dim; ++a)
+        if (periodic[a]) d[a] -= extent * std::round(d[a] / extent);
+      if (d.norm() < support) {
+        expected[i].push_back(static_cast<Index>(j));
+        if ((points[i] - points[j]).norm() >= support) ++wrapped;
+      }
+    }
+  expect_same_sets<Dim>(relation, expected);
+  EXPECT_GT(wrapped, 0u) << "some pairs must cross a periodic face";
+  for (std::size_t i = 0; i < points.size(); ++i)
+    for (std::size_t k = relation.offsets[i]; k < relation.offsets[i + 1]; ++k) {
+      sph::Vec<Dim> d = points[i] - points[relation.neighbour[k]];
+      for (int a = 0; a < Dim; ++a)
+        if (periodic[a]) d[a] -= extent * std::round(d[a] / extent);
+      ASSERT_NEAR(relation.distance[k], d.norm(), 1e-12);
+      ASSERT_LT((relation.unit_vector[k] * relation.distance[k] - d).norm(), 1e-12);
+    }
+}
+
+TEST(PeriodicRelation, MinimumImageNeighboursIn2D) { check_periodic<2>({true, true}); }
+TEST(PeriodicRelation, OneAxisPeriodicIn2D) { check_periodic<2>({true, false}); }
+TEST(PeriodicRelation, MinimumImageNeighboursIn3D) { check_periodic<3>({true, false, true}); }
+
+TEST(PeriodicRelation, RejectsAPeriodShorterThanTwoSupports) {
+  const auto points = random_points<2>(50, 0.2, 3);
+  sph::PeriodicBox<2> box;
+  box.upper = sph::Vec<2>::Constant(0.2);
+  box.periodic = {true, false};
+  sph::InnerRelation<2> relation;
+  EXPECT_THROW(sph::rebuild_inner_relation<2>(relation, points, sph::WendlandC2<2>{}, Real(0.06), box),
+               std::invalid_argument);
+}

@@ -1,6 +1,7 @@
 #include "apps/scenes/diffusion_scenes.hpp"
 #include "apps/scenes/electromechanics/em_scenes.hpp"
 #include "apps/scenes/electrophysiology/ep_scenes.hpp"
+#include "apps/scenes/fluid/fluid_scenes.hpp"
 #include "apps/scenes/geometry/geometry_scenes.hpp"
 #include "apps/scenes/scene.hpp"
 #include "apps/scenes/solid/solid_scenes.hpp"
@@ -41,6 +42,18 @@ const std::vector<SceneEntry>& scene_registry() {
        [] { return make_myocardium_cube_scene(); }},
       {"land-lv", "Land et al. 2015 problems 2 and 3 on the idealised LV: apex positions against the published ones",
        [] { return make_land_lv_scene(); }},
+      {"dambreak", "2D dam break (SPHinXsys setup): surge front against Martin & Moyce and Koshizuka & Oka, wall pressure",
+       [] { return make_dambreak_scene(); }},
+      {"dambreak-3d", "3D dam break, the column extruded across a tank of finite depth: surge front",
+       [] { return make_dambreak_3d_scene(); }},
+      {"hydrostatic-tank", "2D water at rest in a tank, long run: bottom pressure against rho g H, spurious speed",
+       [] { return make_hydrostatic_tank_scene(); }},
+      {"taylor-green", "2D periodic Taylor-Green vortex at Re 100: kinetic-energy decay rate and L2 velocity error",
+       [] { return make_taylor_green_scene(); }},
+      {"poiseuille", "2D body-force driven channel (periodic): steady profile against the parabola",
+       [] { return make_poiseuille_scene(); }},
+      {"lid-driven-cavity", "2D lid-driven cavity at Re 100 (preset re1000): centre lines against Ghia et al. 1982",
+       [] { return make_lid_driven_cavity_scene(); }},
   };
   return scenes;
 }

@@ -51,6 +51,15 @@ struct WendlandC2 {
     const Real s = Real(1) - Real(0.5) * q;
     return -Real(5) * normalisation(h) * s * s * s / (h * h);
   }
+  /// W = normalisation(h) shape(q) and dW/dr = normalisation(h) / h shape_derivative(q), for q < 2.
+  static Real shape(Real q) {
+    const Real s = Real(1) - Real(0.5) * q;
+    return s * s * s * s * (Real(1) + Real(2) * q);
+  }
+  static Real shape_derivative(Real q) {
+    const Real s = Real(1) - Real(0.5) * q;
+    return -Real(5) * q * s * s * s;
+  }
 };
 
 template <int Dim>
@@ -79,6 +88,16 @@ struct WendlandC4 {
     return -Real(14) / Real(3) * normalisation(h) * (Real(1) + Real(2.5) * q) * s2 * s2 * s / (h * h);
   }
   static Real derivative(Real r, Real h) { return derivative_over_r(r, h) * r; }
+  static Real shape(Real q) {
+    const Real s = Real(1) - Real(0.5) * q;
+    const Real s2 = s * s;
+    return s2 * s2 * s2 * (Real(1) + Real(3) * q + Real(35) / Real(12) * q * q);
+  }
+  static Real shape_derivative(Real q) {
+    const Real s = Real(1) - Real(0.5) * q;
+    const Real s2 = s * s;
+    return -Real(14) / Real(3) * q * (Real(1) + Real(2.5) * q) * s2 * s2 * s;
+  }
 };
 
 template <int Dim>
@@ -111,6 +130,16 @@ struct CubicSplineM4 {
     if (q < Real(1)) return normalisation(h) * (-Real(3) + Real(2.25) * q) / (h * h);
     const Real s = Real(2) - q;
     return -normalisation(h) * Real(0.75) * s * s / (q * h * h);
+  }
+  static Real shape(Real q) {
+    if (q < Real(1)) return Real(1) - Real(1.5) * q * q + Real(0.75) * q * q * q;
+    const Real s = Real(2) - q;
+    return Real(0.25) * s * s * s;
+  }
+  static Real shape_derivative(Real q) {
+    if (q < Real(1)) return -Real(3) * q + Real(2.25) * q * q;
+    const Real s = Real(2) - q;
+    return -Real(0.75) * s * s;
   }
 };
 

@@ -13,10 +13,18 @@
 // place (rebuild_*_relation) when its particles move: the cell list, the row offsets and the pair
 // arrays keep their storage, so a rebuild allocates nothing once the pair count stops growing.
 //
+// Periodic boundaries: with a PeriodicBox, sources near a periodic face are also seen through the
+// opposite face (as images shifted by the period); a pair with an image stores the index of the
+// original source and the distance and unit vector to the image, so operators that read only the
+// cached pair geometry (fluids) need not know about periodicity. Every period must be at least two
+// kernel supports, so that no particle sees itself or one source twice.
+//
 // Distribution: targets and sources are plain position spans, so a partition's relation is built
 // over its owned particles as targets and owned plus ghost particles as sources; no code here
 // assumes that a source is owned (docs/architecture.md).
 
+#include <array>
+#include <cmath>
 #include <span>
 #include <vector>
 
@@ -25,6 +33,30 @@
 #include "libsph/core/types.hpp"
 
 namespace sph {
+
+/// An axis-aligned box with periodic axes (the others are left open).
+template <int Dim>
+struct PeriodicBox {
+  Vec<Dim> lower = Vec<Dim>::Zero();
+  Vec<Dim> upper = Vec<Dim>::Zero();
+  std::array<bool, Dim> periodic{};
+  bool any() const {
+    for (bool p : periodic)
+      if (p) return true;
+    return false;
+  }
+  Vec<Dim> period() const { return upper - lower; }
+  /// x brought back into the box along the periodic axes.
+  Vec<Dim> wrap(Vec<Dim> x) const {
+    for (int d = 0; d < Dim; ++d) {
+      if (!periodic[d]) continue;
+      const Real L = upper[d] - lower[d];
+      x[d] -= L * std::floor((x[d] - lower[d]) / L);
+      if (x[d] >= upper[d]) x[d] -= L;  // round-off of the floor
+    }
+    return x;
+  }
+};
 
 template <int Dim>
 struct NeighbourList {
@@ -43,12 +75,16 @@ struct NeighbourList {
   static constexpr std::size_t bytes_per_pair = sizeof(Index) + 3 * sizeof(Real) + sizeof(Vec<Dim>);
   /// Bytes held: the pairs, the row offsets, and the cell list and counts kept for rebuilds.
   std::size_t bytes() const {
-    return n_pairs() * bytes_per_pair + (offsets.size() + row_count.capacity()) * sizeof(std::size_t) + cells.bytes();
+    return n_pairs() * bytes_per_pair + (offsets.size() + row_count.capacity()) * sizeof(std::size_t) + cells.bytes() + candidates.capacity() * sizeof(Index) +
+           extended_sources.capacity() * sizeof(Vec<Dim>) + image_origin.capacity() * sizeof(Index);
   }
 
   // Reused by rebuilds.
   CellLinkedList<Dim> cells;
   std::vector<std::size_t> row_count;
+  std::vector<Index> candidates;           ///< neighbours found by the counting pass, a fixed stride per row
+  std::vector<Vec<Dim>> extended_sources;  ///< sources, then their periodic images
+  std::vector<Index> image_origin;         ///< the source of each image
 };
 
 template <int Dim>
@@ -76,6 +112,17 @@ void rebuild_inner_relation(InnerRelation<Dim>& relation, std::span<const Vec<Di
 template <int Dim>
 void rebuild_contact_relation(ContactRelation<Dim>& relation, std::span<const Vec<Dim>> targets,
                               std::span<const Vec<Dim>> sources, const AnyKernel<Dim>& kernel, Real smoothing_length);
+
+/// Rebuilds the inner relation with periodic images across the periodic axes of `box`.
+template <int Dim>
+void rebuild_inner_relation(InnerRelation<Dim>& relation, std::span<const Vec<Dim>> positions,
+                            const AnyKernel<Dim>& kernel, Real smoothing_length, const PeriodicBox<Dim>& box);
+
+/// Rebuilds the contact relation with periodic images of the sources across the periodic axes of `box`.
+template <int Dim>
+void rebuild_contact_relation(ContactRelation<Dim>& relation, std::span<const Vec<Dim>> targets,
+                              std::span<const Vec<Dim>> sources, const AnyKernel<Dim>& kernel, Real smoothing_length,
+                              const PeriodicBox<Dim>& box);
 
 /// Brute-force O(N_t N_s) neighbour indices, row by row in increasing source index (for tests).
 template <int Dim>

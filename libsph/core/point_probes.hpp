@@ -19,6 +19,10 @@
 // gradient) gives where that point has moved, sampling a field gives its value there. Built on the
 // current positions (fluids, or points fixed in space), update() recomputes the weights after the
 // particles move. Any field type that is a vector space (Real, Vec<Dim>, Mat<Dim>) can be sampled.
+//
+// ProbeFit::shepard takes the kernel-weighted average f(p) = sum_j V_j W_j f_j / sum_j V_j W_j
+// instead: first order only, but defined with a single particle in reach and zero with none, which
+// is what a pressure sensor on a wall that a fluid reaches only later needs.
 
 #include <Eigen/Dense>
 #include <span>
@@ -30,13 +34,15 @@
 
 namespace sph {
 
+enum class ProbeFit { linear, shepard };
+
 template <int Dim>
 class PointProbes {
  public:
   /// Probes at `points` over the particles at `positions` (reference or current configuration).
   PointProbes(std::vector<Vec<Dim>> points, std::span<const Vec<Dim>> positions, std::span<const Real> volumes,
-              const AnyKernel<Dim>& kernel, Real smoothing_length)
-      : points_(std::move(points)), kernel_(kernel), smoothing_length_(smoothing_length) {
+              const AnyKernel<Dim>& kernel, Real smoothing_length, ProbeFit fit = ProbeFit::linear)
+      : points_(std::move(points)), kernel_(kernel), smoothing_length_(smoothing_length), fit_(fit) {
     update(positions, volumes);
   }
 
@@ -50,6 +56,17 @@ class PointProbes {
     using Vector = Eigen::Matrix<double, Dim + 1, 1>;
     const auto& offsets = relation_.offsets;
     const auto& source = relation_.neighbour;
+    if (fit_ == ProbeFit::shepard) {
+      for (std::size_t p = 0; p < points_.size(); ++p) {
+        double total = 0;
+        for (std::size_t k = offsets[p]; k < offsets[p + 1]; ++k) total += double(volumes[source[k]] * relation_.kernel_value[k]);
+        for (std::size_t k = offsets[p]; k < offsets[p + 1]; ++k) {
+          weight_[k] = total > 0 ? double(volumes[source[k]] * relation_.kernel_value[k]) / total : 0.0;
+          offset_[k] = positions[source[k]] - points_[p];
+        }
+      }
+      return;
+    }
     for (std::size_t p = 0; p < points_.size(); ++p) {
       Matrix moment = Matrix::Zero();
       for (std::size_t k = offsets[p]; k < offsets[p + 1]; ++k) {
@@ -71,6 +88,8 @@ class PointProbes {
   }
 
   std::size_t size() const { return points_.size(); }
+  /// Number of particles within reach of point p.
+  std::size_t n_sources(std::size_t p) const { return relation_.offsets[p + 1] - relation_.offsets[p]; }
   const Vec<Dim>& point(std::size_t p) const { return points_[p]; }
 
   /// The fitted value of a scalar field at point p.
@@ -111,6 +130,7 @@ class PointProbes {
   std::vector<Vec<Dim>> points_;
   AnyKernel<Dim> kernel_;
   Real smoothing_length_;
+  ProbeFit fit_;
   ContactRelation<Dim> relation_;
   std::vector<double> weight_;
   std::vector<Vec<Dim>> offset_;  ///< x_j - p of each pair
