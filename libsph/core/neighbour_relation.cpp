@@ -50,7 +50,7 @@ void add_periodic_images(NeighbourList<Dim>& list, std::span<const Vec<Dim>> sou
 
 template <int Dim, class Kernel>
 void fill_relation(NeighbourList<Dim>& list, std::span<const Vec<Dim>> targets, std::span<const Vec<Dim>> sources_in,
-                   Real h, bool exclude_self, const PeriodicBox<Dim>* box = nullptr) {
+                   Real h, bool exclude_self, const PeriodicBox<Dim>* box = nullptr, bool keep_candidates = true) {
   if (!(h > 0)) throw std::invalid_argument("neighbour relation: smoothing length must be positive");
   const Real support = Kernel::support_radius(h);
   const Real support2 = support * support;
@@ -73,7 +73,7 @@ void fill_relation(NeighbourList<Dim>& list, std::span<const Vec<Dim>> targets, 
   // particle distribution near a lattice) so that the second pass need not search again.
   auto& count = list.row_count;
   count.resize(n);
-  const std::size_t stride = Dim == 2 ? 64 : 256;
+  const std::size_t stride = keep_candidates ? (Dim == 2 ? 48 : 128) : 0;
   list.candidates.resize(n * stride);
   parallel_for(n, [&](std::size_t i) {
     std::size_t c = 0;
@@ -159,11 +159,15 @@ void rebuild_contact_relation(ContactRelation<Dim>& relation, std::span<const Ve
       kernel);
 }
 
+// A relation built once (solids, probes) does not keep the candidates of its counting pass: the
+// second pass searches again instead of holding a stride of indices per particle.
 template <int Dim>
 InnerRelation<Dim> build_inner_relation(std::span<const Vec<Dim>> positions, const AnyKernel<Dim>& kernel,
                                         Real smoothing_length) {
   InnerRelation<Dim> relation;
-  rebuild_inner_relation<Dim>(relation, positions, kernel, smoothing_length);
+  std::visit([&]<class K>(const K&) {
+    fill_relation<Dim, K>(relation, positions, positions, smoothing_length, true, nullptr, false);
+  }, kernel);
   return relation;
 }
 
@@ -171,7 +175,9 @@ template <int Dim>
 ContactRelation<Dim> build_contact_relation(std::span<const Vec<Dim>> targets, std::span<const Vec<Dim>> sources,
                                             const AnyKernel<Dim>& kernel, Real smoothing_length) {
   ContactRelation<Dim> relation;
-  rebuild_contact_relation<Dim>(relation, targets, sources, kernel, smoothing_length);
+  std::visit([&]<class K>(const K&) {
+    fill_relation<Dim, K>(relation, targets, sources, smoothing_length, false, nullptr, false);
+  }, kernel);
   return relation;
 }
 

@@ -8,7 +8,8 @@
 // ContactRelation: targets of one set, sources of another, with the contact's smoothing length
 // (by default the larger of the two sets' smoothing lengths, as for multi-resolution coupling).
 //
-// Both are built in two passes (count per target, exclusive scan, fill), each target writing only
+// Both are built in two passes (count per target, keeping what it finds; exclusive scan; fill from
+// what was kept, searching again only for a row longer than the kept stride), each target writing only
 // its own row: no atomics, and the same lists for any number of threads. A relation is rebuilt in
 // place (rebuild_*_relation) when its particles move: the cell list, the row offsets and the pair
 // arrays keep their storage, so a rebuild allocates nothing once the pair count stops growing.
@@ -82,7 +83,8 @@ struct NeighbourList {
   // Reused by rebuilds.
   CellLinkedList<Dim> cells;
   std::vector<std::size_t> row_count;
-  std::vector<Index> candidates;           ///< neighbours found by the counting pass, a fixed stride per row
+  std::vector<Index> candidates;           ///< neighbours found by the counting pass, a fixed stride per
+                                           ///< row (48 in 2D, 128 in 3D), kept by the rebuild_* functions only
   std::vector<Vec<Dim>> extended_sources;  ///< sources, then their periodic images
   std::vector<Index> image_origin;         ///< the source of each image
 };

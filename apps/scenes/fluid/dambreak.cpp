@@ -10,6 +10,9 @@
 // and errors.surge_front_rms_koshizuka, in column widths.
 // Pressure probe: Shepard average of the fluid pressure at (tank_width, probe_height) (observers.csv)
 // and the first time it exceeds 0.1 rho g H (results.pressure_first_rise_time).
+// Files besides the particle output: surge_front.csv (x(t), Z(T)), surge_front_reference.csv (the
+// published points with the simulated Z at their T), snapshots.csv (every particle's position and
+// pressure at the first step after t = 1, 2, ..., 6), observers.csv (wall pressure, front).
 
 #include <algorithm>
 #include <array>
@@ -146,7 +149,23 @@ class DamBreakScene final : public Scene {
       if (std::isnan(first_rise) && pressure > rise_threshold) first_rise = s.time;
       return std::vector<double>{pressure, toe()};
     };
+    // Snapshots of the particles (position and pressure) at a few times, for pictures without ParaView.
+    const std::vector<double> snapshot_times{1, 2, 3, 4, 5, 6};
+    std::size_t next_snapshot = 0;
+    std::string snapshots = "time,x,y,z,pressure\n";
+    auto take_snapshot = [&](double time) {
+      const auto p = water.field(fluid.pressure_field());
+      for (std::size_t i = 0; i < water.n_particles(); ++i) {
+        const auto& x = water.position[i];
+        snapshots += std::to_string(time) + "," + std::to_string(x[0]) + "," + std::to_string(x[1]) + "," +
+                     std::to_string(Dim == 3 ? double(x[Dim - 1]) : 0.0) + "," + std::to_string(p[i]) + "\n";
+      }
+    };
     plan.every_step = [&](const sph::StepInfo& s) {
+      while (next_snapshot < snapshot_times.size() && s.time >= snapshot_times[next_snapshot]) {
+        take_snapshot(s.time);
+        ++next_snapshot;
+      }
       if (front_done) return;
       const double x = toe();
       front_t.push_back(s.time);
@@ -194,6 +213,7 @@ class DamBreakScene final : public Scene {
       front_csv += std::to_string(front_t[k]) + "," + std::to_string(front_x[k]) + "," + std::to_string(front_t[k] * time_scale) +
                    "," + std::to_string(front_x[k] / a) + "\n";
     sph::write_file_atomically(ctx.output_dir / "surge_front.csv", front_csv);
+    sph::write_file_atomically(ctx.output_dir / "snapshots.csv", snapshots);
 
     auto& report = ctx.report;
     report.reference = "surge front: Martin & Moyce 1952 and Koshizuka & Oka 1996 (Z = x / a against T = t sqrt(g / a), "
