@@ -145,6 +145,22 @@ TEST(Fluid, AcousticWaveConservesEnergyAndMomentum) {
   EXPECT_LT(momentum.norm() / scale, 1e-10);
 }
 
+// The Tait equation of state: density() inverts pressure(), c = c0 at rho0, and the compression
+// energy is the integral of p / rho^2 (checked by the midpoint rule).
+TEST(Fluid, TaitEquationOfStateIsConsistent) {
+  sph::EquationOfState eos{sph::EquationOfStateKind::tait, 1000, 20, 7};
+  for (Real rho : {Real(990), Real(1000), Real(1015)}) EXPECT_NEAR(eos.density(eos.pressure(rho)), rho, 1e-9);
+  EXPECT_EQ(eos.pressure(1000), 0);
+  const Real rho = 1012;
+  double integral = 0;
+  const int n = 2000;
+  for (int k = 0; k < n; ++k) {
+    const double s = 1000 + (k + 0.5) * (rho - 1000) / n;
+    integral += eos.pressure(Real(s)) / (s * s) * (rho - 1000) / n;
+  }
+  EXPECT_NEAR(eos.internal_energy(rho), integral, 1e-6 * integral);
+}
+
 struct Tank {
   sph::ParticleSet<2> water;
   geometry::WallParticles<2> walls;
