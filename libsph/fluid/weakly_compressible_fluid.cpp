@@ -201,11 +201,13 @@ void WeaklyCompressibleFluid<Dim>::compute_prior_acceleration() {
   parallel_for(particles_.n_particles(), [&](std::size_t i) {
     Vec<Dim> force = Vec<Dim>::Zero();
     Vec<Dim> grad_sigma = Vec<Dim>::Zero();
+    Real moment = 0;  // sum_j V_j r_ij dW_ij, -Dim for a full, exact neighbourhood
     for (std::size_t k = inner_.offsets[i]; k < inner_.offsets[i + 1]; ++k) {
       const Index j = inner_.neighbour[k];
       const Real dW = inner_.kernel_derivative[k];
       if (eta > 0) force += (V[j] * dW / (inner_.distance[k] + guard)) * (v[i] - v[j]);
       grad_sigma += (V[j] * dW) * inner_.unit_vector[k];
+      moment += V[j] * inner_.distance[k] * dW;
     }
     for (const auto& w : views) {
       const auto& rel = *w.relation;
@@ -217,9 +219,15 @@ void WeaklyCompressibleFluid<Dim>::compute_prior_acceleration() {
         // The ghost velocity 2 v_w - v_i: v_i - v_ghost = 2 (v_i - v_w).
         if (eta > 0 && no_slip) force += (Real(2) * w.volume[j] * dW / (rel.distance[k] + guard)) * (v[i] - vw[j]);
         grad_sigma += (w.volume[j] * dW) * rel.unit_vector[k];
+        moment += w.volume[j] * rel.distance[k] * dW;
       }
     }
-    a[i] = g + (Real(2) * eta / rho[i]) * force;
+    // Renormalised Laplacian: on a lattice at h = 1.3 dp the moment is 2.6 % short of -Dim, which
+    // leaves the viscous force 2.6 % weak at any resolution (Poiseuille 3 % fast). Dividing by it
+    // makes the operator exact on quadratic fields in a full neighbourhood; the factor is held in
+    // [1, 1.1] so that a free surface (a truncated support) is not amplified.
+    const Real renormalisation = moment < 0 ? std::clamp(-Real(Dim) / moment, Real(1), Real(1.1)) : Real(1);
+    a[i] = g + (Real(2) * eta * renormalisation / rho[i]) * force;
     if (kappa > 0) shift_[i] = -Real(2) * kappa * h * h * grad_sigma;
   });
   if (kappa > 0) {
