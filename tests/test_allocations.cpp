@@ -11,9 +11,11 @@
 
 #include "cardio/monodomain.hpp"
 #include "geometry/lattice.hpp"
+#include "geometry/wall_particles.hpp"
 #include "libsph/core/neighbour_relation.hpp"
 #include "libsph/core/time_stepper.hpp"
 #include "libsph/diffusion/diffusion_system.hpp"
+#include "libsph/fluid/weakly_compressible_fluid.hpp"
 #include "libsph/solid/elastic_solid.hpp"
 
 namespace {
@@ -76,6 +78,43 @@ TEST(Allocations, TlsphStepWithActiveStressAllocatesNothing) {
     for (int k = 0; k < 30; ++k, t += dt) solid.advance(t, solid.stable_time_step());
   });
   EXPECT_EQ(n, 0u);
+}
+
+// A fluid advection step with its wall (rebuild, density, forces, acoustic sub-steps) allocates
+// nothing once warm; a re-sort (every sort_interval steps) is left out of the counted window.
+TEST(Allocations, FluidStepWithWallAllocatesNothing) {
+  using Vec2 = sph::Vec<2>;
+  const Real dp = Real(0.05);
+  auto water = geometry::lattice_box<2>("water", Vec2::Zero(), Vec2(1, Real(0.5)), dp);
+  auto box = geometry::make_box({0, 0, -1}, {1, 1, 1});
+  auto walls = geometry::wall_particles<2>("tank", *box, Vec2(-3 * dp, -3 * dp), Vec2(1 + 3 * dp, 1 + 3 * dp), dp, 3 * dp);
+  sph::FluidWall<2> wall(walls.particles, walls.normals);
+  sph::WeaklyCompressibleFluid<2>::Settings settings;
+  settings.equation_of_state.sound_speed = 10;
+  settings.body_force = Vec2(0, -1);
+  settings.viscosity = Real(0.01);
+  settings.particle_spacing = dp;
+  settings.smoothing_length = Real(1.3) * dp;
+  settings.numerics.sort_interval = 0;
+  settings.numerics.transport_velocity = Real(0.1);
+  sph::WeaklyCompressibleFluid<2> fluid(water, settings);
+  fluid.add_wall(wall);
+  auto step = [&] {
+    fluid.update_neighbours();
+    fluid.reinitialise_density();
+    fluid.compute_prior_acceleration();
+    for (int k = 0; k < 4; ++k) {
+      const Real dt = fluid.acoustic_time_step();
+      fluid.first_half(dt);
+      fluid.second_half(dt);
+    }
+    fluid.check_state(0);
+  };
+  for (int k = 0; k < 5; ++k) step();  // warm-up
+  EXPECT_EQ(allocations_in([&] {
+              for (int k = 0; k < 5; ++k) step();
+            }),
+            0u);
 }
 
 TEST(Allocations, DiffusionAndMonodomainStepsAllocateNothing) {

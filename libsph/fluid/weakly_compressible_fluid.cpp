@@ -115,19 +115,13 @@ WeaklyCompressibleFluid<Dim>::~WeaklyCompressibleFluid() = default;
 template <int Dim>
 void WeaklyCompressibleFluid<Dim>::add_wall(const FluidWall<Dim>& wall) {
   walls_.push_back(std::make_unique<WallContact>(WallContact{&wall, {}}));
+  // The wall's fields as spans, once: walls are not re-sorted or resized, so the spans stay valid.
+  const auto& particles = wall.particles();
+  views_.push_back({&walls_.back()->relation, particles.volume, particles.field(wall.velocity_field()),
+                    particles.field(wall.acceleration_field()), particles.field(wall.normal_field()),
+                    wall.slip() == WallSlip::no_slip});
 }
 
-template <int Dim>
-std::vector<typename WeaklyCompressibleFluid<Dim>::WallView> WeaklyCompressibleFluid<Dim>::wall_views() const {
-  std::vector<WallView> views;
-  for (const auto& w : walls_) {
-    const auto& wall = w->wall->particles();
-    views.push_back({&w->relation, wall.volume, wall.field(w->wall->velocity_field()),
-                     wall.field(w->wall->acceleration_field()), wall.field(w->wall->normal_field()),
-                     w->wall->slip() == WallSlip::no_slip});
-  }
-  return views;
-}
 
 template <int Dim>
 const ContactRelation<Dim>& WeaklyCompressibleFluid<Dim>::wall_relation(std::size_t k) const {
@@ -150,7 +144,7 @@ void WeaklyCompressibleFluid<Dim>::update_neighbours() {
 
 template <int Dim>
 void WeaklyCompressibleFluid<Dim>::reinitialise_density() {
-  const auto views = wall_views();
+  const auto& views = views_;
   const auto mode = settings_.numerics.density_reinitialisation;
   if (mode == DensityReinitialisation::none) return;
   const Real rho0 = settings_.equation_of_state.reference_density;
@@ -187,7 +181,7 @@ void WeaklyCompressibleFluid<Dim>::update_pressure() {
 
 template <int Dim>
 void WeaklyCompressibleFluid<Dim>::compute_prior_acceleration() {
-  const auto views = wall_views();
+  const auto& views = views_;
   const auto v = particles_.field(velocity_);
   const auto rho = particles_.field(density_);
   const auto& V = particles_.volume;
@@ -238,7 +232,7 @@ void WeaklyCompressibleFluid<Dim>::compute_prior_acceleration() {
 
 template <int Dim>
 void WeaklyCompressibleFluid<Dim>::first_half(Real dt) {
-  const auto views = wall_views();
+  const auto& views = views_;
   const auto& eos = settings_.equation_of_state;
   const auto& numerics = settings_.numerics;
   auto rho = particles_.field(density_);
@@ -325,7 +319,7 @@ void WeaklyCompressibleFluid<Dim>::first_half(Real dt) {
 
 template <int Dim>
 void WeaklyCompressibleFluid<Dim>::second_half(Real dt) {
-  const auto views = wall_views();
+  const auto& views = views_;
   const auto& eos = settings_.equation_of_state;
   auto rho = particles_.field(density_);
   const auto p = particles_.field(pressure_);

@@ -113,7 +113,7 @@ class WeaklyCompressibleFluid {
   WeaklyCompressibleFluid(ParticleSet<Dim>& particles, Settings settings);
   ~WeaklyCompressibleFluid();
 
-  /// A wall the fluid cannot cross (must outlive the fluid).
+  /// A wall the fluid cannot cross (must outlive the fluid; its particles are not re-sorted).
   void add_wall(const FluidWall<Dim>& wall);
 
   /// The dual-criteria step: an advection stage (neighbours, density, viscous and body forces)
@@ -167,14 +167,13 @@ class WeaklyCompressibleFluid {
 
  private:
   struct WallContact;
-  // A wall's relation and fields as spans, fetched once per loop instead of once per particle.
+  // A wall's relation and fields as spans, taken once when the wall is added.
   struct WallView {
     const ContactRelation<Dim>* relation;
     std::span<const Real> volume;
     std::span<const Vec<Dim>> velocity, acceleration, normal;
     bool no_slip;
   };
-  std::vector<WallView> wall_views() const;
 
   ParticleSet<Dim>& particles_;
   Settings settings_;
@@ -185,6 +184,7 @@ class WeaklyCompressibleFluid {
   FieldHandle<Real> density_, pressure_, mass_, density_rate_;
   InnerRelation<Dim> inner_;
   std::vector<std::unique_ptr<WallContact>> walls_;
+  std::vector<WallView> views_;
   std::vector<Vec<Dim>> shift_;  // scratch of the transport-velocity shift
   // What the pair loops read of a neighbour, packed so that one neighbour costs one cache line
   // instead of three (copied from the fields in the update loops of the acoustic step).

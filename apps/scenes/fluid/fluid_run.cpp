@@ -70,10 +70,8 @@ FluidRunSummary run_fluid(sph::WeaklyCompressibleFluid<Dim>& fluid, std::vector<
                           const FluidRunPlan& plan, RunContext& ctx) {
   auto& body = fluid.particles();
   sph::TimeStepper stepper(0, static_cast<sph::Real>(plan.end_time));
-  sph::SectionTimers* timers_of_harness = nullptr;
   sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, plan.scene, ctx.quiet});
-  timers_of_harness = &run.timers();
-  stepper.add_stage(fluid.advection_stage(*timers_of_harness));
+  stepper.add_stage(fluid.advection_stage(run.timers()));
   if (plan.every_step) stepper.add_step_callback(plan.every_step);
   run.add_body(body, static_cast<sph::Real>(plan.output_interval));
   for (auto* wall : walls) run.add_body(wall->particles(), 0);
