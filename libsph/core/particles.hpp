@@ -6,7 +6,8 @@
 // array once through the handle (`field(handle)`) and then index it directly, so there is no string
 // lookup inside a particle loop and a scene pays only for the fields its dynamics use. The name of a
 // field is its label for output only. permute() reorders every particle's entries together (for
-// sorting along the cell list, particle_sorting.hpp).
+// sorting along the cell list, particle_sorting.hpp); select() also deletes and copies particles
+// (open boundaries of a fluid), every field with them.
 
 #include <memory>
 #include <span>
@@ -19,11 +20,11 @@
 
 namespace sph {
 
-/// values[k] = old values[order[k]], through `scratch` (which keeps its storage for the next call).
+/// values[k] = old values[order[k]] for k < order.size(), through `scratch` (which keeps its storage
+/// for the next call); `order` may leave entries out and repeat others.
 template <class T>
-void permute_values(std::vector<T>& values, std::span<const Index> order, std::vector<T>& scratch) {
-  if (order.size() != values.size()) throw std::invalid_argument("permutation of the wrong length");
-  scratch.resize(values.size());
+void select_values(std::vector<T>& values, std::span<const Index> order, std::vector<T>& scratch) {
+  scratch.resize(order.size());
   for (std::size_t k = 0; k < order.size(); ++k) scratch[k] = values[order[k]];
   values.swap(scratch);
 }
@@ -39,8 +40,8 @@ class FieldArrayBase {
   virtual const std::type_info& value_type() const = 0;
   virtual std::size_t size() const = 0;
   virtual std::size_t bytes_per_particle() const = 0;
-  /// values[k] = old values[order[k]] for every k.
-  virtual void permute(std::span<const Index> order) = 0;
+  /// values[k] = old values[order[k]] for every k of `order` (the new size).
+  virtual void select(std::span<const Index> order) = 0;
 
  private:
   std::string name_;
@@ -55,7 +56,7 @@ class FieldArray final : public FieldArrayBase {
   const std::type_info& value_type() const override { return typeid(T); }
   std::size_t size() const override { return values.size(); }
   std::size_t bytes_per_particle() const override { return sizeof(T); }
-  void permute(std::span<const Index> order) override { permute_values(values, order, scratch_); }
+  void select(std::span<const Index> order) override { select_values(values, order, scratch_); }
   std::vector<T> values;
 
  private:
@@ -131,9 +132,20 @@ class ParticleSet {
   void permute(std::span<const Index> order) {
     if (order.size() != n_particles())
       throw std::invalid_argument("particle set '" + name_ + "': permutation of the wrong length");
-    permute_values(position, order, position_scratch_);
-    permute_values(volume, order, volume_scratch_);
-    for (auto& f : fields_) f->permute(order);
+    select(order);
+  }
+
+  /// Keeps, deletes and copies particles: particle k becomes the old particle order[k] for every k of
+  /// `order`, whose length is the new number of particles (an old particle left out is deleted, one
+  /// named twice is copied). Relations and indices held elsewhere must be rebuilt, as after permute().
+  void select(std::span<const Index> order) {
+    for (const Index k : order)
+      if (static_cast<std::size_t>(k) >= n_particles())
+        throw std::invalid_argument("particle set '" + name_ + "': selection names particle " + std::to_string(k) +
+                                    " of " + std::to_string(n_particles()));
+    select_values(position, order, position_scratch_);
+    select_values(volume, order, volume_scratch_);
+    for (auto& f : fields_) f->select(order);
   }
 
   std::vector<VecD> position;  ///< current position [length unit of the scene]

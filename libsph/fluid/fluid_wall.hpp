@@ -4,7 +4,9 @@
 // velocity and an acceleration (zero for a wall at rest; a lid's tangential speed; a moving
 // body's motion). The fluid sees it through the one-sided Riemann problem of its own operators
 // (weakly_compressible_fluid.hpp): the wall is a boundary condition of the fluid, not a system
-// with dynamics of its own.
+// with dynamics of its own. A moving body (an elastic solid, a rigid body) is a wall whose
+// velocity and acceleration fields are the body's motion averaged over the fluid's step, under field
+// names of its own so that they do not clash with the body's instantaneous state.
 
 #include <cmath>
 #include <stdexcept>
@@ -26,14 +28,20 @@ inline const std::vector<std::pair<std::string, WallSlip>>& wall_slip_names() {
 template <int Dim>
 class FluidWall {
  public:
+  /// The names of the wall's fields on its particle set.
+  struct FieldNames {
+    std::string normal = "wall_normal", velocity = "velocity", acceleration = "acceleration";
+  };
+
   /// `normals`: one unit normal per particle, pointing from the wall into the fluid.
-  FluidWall(ParticleSet<Dim>& particles, const std::vector<Vec<Dim>>& normals, WallSlip slip = WallSlip::no_slip)
+  FluidWall(ParticleSet<Dim>& particles, const std::vector<Vec<Dim>>& normals, WallSlip slip = WallSlip::no_slip,
+            const FieldNames& names = {})
       : particles_(particles), slip_(slip) {
     if (normals.size() != particles.n_particles())
       throw std::invalid_argument("wall '" + particles.name() + "': one normal per particle is needed");
-    normal_ = particles.template register_field<Vec<Dim>>("wall_normal", Vec<Dim>::Zero());
-    velocity_ = particles.template register_field<Vec<Dim>>("velocity", Vec<Dim>::Zero());
-    acceleration_ = particles.template register_field<Vec<Dim>>("acceleration", Vec<Dim>::Zero(), false);
+    normal_ = particles.template register_field<Vec<Dim>>(names.normal, Vec<Dim>::Zero());
+    velocity_ = particles.template register_field<Vec<Dim>>(names.velocity, Vec<Dim>::Zero());
+    acceleration_ = particles.template register_field<Vec<Dim>>(names.acceleration, Vec<Dim>::Zero(), false);
     auto n = particles.field(normal_);
     for (std::size_t i = 0; i < normals.size(); ++i) {
       if (!(std::abs(normals[i].norm() - 1) < Real(1e-6)))

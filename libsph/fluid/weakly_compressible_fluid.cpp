@@ -49,6 +49,22 @@ template <int Dim>
 struct WeaklyCompressibleFluid<Dim>::WallContact {
   const FluidWall<Dim>* wall;
   ContactRelation<Dim> relation;
+  bool record = false;
+  std::vector<Vec<Dim>> pressure_pairs, viscous_pairs;  // force of each pair on the fluid particle
+  // The relation transposed: the pair slots of each wall particle, in increasing fluid index.
+  std::vector<std::size_t> wall_offsets, wall_slots;
+
+  void transpose() {
+    const std::size_t n_wall = wall->particles().n_particles();
+    wall_offsets.assign(n_wall + 1, 0);
+    for (const Index j : relation.neighbour) ++wall_offsets[j + 1];
+    for (std::size_t j = 0; j < n_wall; ++j) wall_offsets[j + 1] += wall_offsets[j];
+    wall_slots.resize(relation.neighbour.size());
+    std::vector<std::size_t> next(wall_offsets.begin(), wall_offsets.end() - 1);
+    for (std::size_t k = 0; k < relation.neighbour.size(); ++k) wall_slots[next[relation.neighbour[k]]++] = k;
+    pressure_pairs.assign(relation.neighbour.size(), Vec<Dim>::Zero());
+    viscous_pairs.assign(relation.neighbour.size(), Vec<Dim>::Zero());
+  }
 };
 
 namespace {
@@ -113,13 +129,44 @@ template <int Dim>
 WeaklyCompressibleFluid<Dim>::~WeaklyCompressibleFluid() = default;
 
 template <int Dim>
-void WeaklyCompressibleFluid<Dim>::add_wall(const FluidWall<Dim>& wall) {
-  walls_.push_back(std::make_unique<WallContact>(WallContact{&wall, {}}));
+std::size_t WeaklyCompressibleFluid<Dim>::add_wall(const FluidWall<Dim>& wall, WallForces forces) {
+  walls_.push_back(std::make_unique<WallContact>());
+  auto& contact = *walls_.back();
+  contact.wall = &wall;
+  contact.record = forces == WallForces::record;
   // The wall's fields as spans, once: walls are not re-sorted or resized, so the spans stay valid.
   const auto& particles = wall.particles();
-  views_.push_back({&walls_.back()->relation, particles.volume, particles.field(wall.velocity_field()),
+  views_.push_back({&contact.relation, particles.volume, particles.field(wall.velocity_field()),
                     particles.field(wall.acceleration_field()), particles.field(wall.normal_field()),
-                    wall.slip() == WallSlip::no_slip});
+                    wall.slip() == WallSlip::no_slip, contact.record ? &contact.pressure_pairs : nullptr,
+                    contact.record ? &contact.viscous_pairs : nullptr});
+  return walls_.size() - 1;
+}
+
+template <int Dim>
+void WeaklyCompressibleFluid<Dim>::wall_forces(std::size_t k, std::span<Vec<Dim>> pressure,
+                                               std::span<Vec<Dim>> viscous) const {
+  const auto& contact = *walls_.at(k);
+  const std::size_t n_wall = contact.wall->particles().n_particles();
+  if (!contact.record)
+    throw std::logic_error("fluid '" + particles_.name() + "': the forces on wall '" +
+                           contact.wall->particles().name() + "' are not recorded");
+  if (pressure.size() != n_wall || viscous.size() != n_wall)
+    throw std::invalid_argument("fluid '" + particles_.name() + "': one force per wall particle is needed");
+  if (contact.wall_offsets.size() != n_wall + 1) {  // before the first neighbour search
+    std::fill(pressure.begin(), pressure.end(), Vec<Dim>::Zero());
+    std::fill(viscous.begin(), viscous.end(), Vec<Dim>::Zero());
+    return;
+  }
+  parallel_for(n_wall, [&](std::size_t j) {
+    Vec<Dim> fp = Vec<Dim>::Zero(), fv = Vec<Dim>::Zero();
+    for (std::size_t s = contact.wall_offsets[j]; s < contact.wall_offsets[j + 1]; ++s) {
+      fp -= contact.pressure_pairs[contact.wall_slots[s]];
+      fv -= contact.viscous_pairs[contact.wall_slots[s]];
+    }
+    pressure[j] = fp;
+    viscous[j] = fv;
+  });
 }
 
 
@@ -137,8 +184,10 @@ void WeaklyCompressibleFluid<Dim>::update_neighbours() {
   if (settings_.numerics.sort_interval > 0 && rebuilds_ % static_cast<std::size_t>(settings_.numerics.sort_interval) == 0)
     sort_particles(particles_, Real(2) * h);
   rebuild_inner_relation<Dim>(inner_, x, settings_.kernel, h, box);
-  for (auto& w : walls_)
+  for (auto& w : walls_) {
     rebuild_contact_relation<Dim>(w->relation, x, w->wall->particles().position, settings_.kernel, h, box);
+    if (w->record) w->transpose();
+  }
   ++rebuilds_;
 }
 
@@ -182,6 +231,7 @@ void WeaklyCompressibleFluid<Dim>::update_pressure() {
 template <int Dim>
 void WeaklyCompressibleFluid<Dim>::compute_prior_acceleration() {
   const auto& views = views_;
+  const auto m = particles_.field(mass_);
   const auto v = particles_.field(velocity_);
   const auto rho = particles_.field(density_);
   const auto& V = particles_.volume;
@@ -211,7 +261,11 @@ void WeaklyCompressibleFluid<Dim>::compute_prior_acceleration() {
         const Index j = rel.neighbour[k];
         const Real dW = rel.kernel_derivative[k];
         // The ghost velocity 2 v_w - v_i: v_i - v_ghost = 2 (v_i - v_w).
-        if (eta > 0 && no_slip) force += (Real(2) * w.volume[j] * dW / (rel.distance[k] + guard)) * (v[i] - vw[j]);
+        if (eta > 0 && no_slip) {
+          const Vec<Dim> pair = (Real(2) * w.volume[j] * dW / (rel.distance[k] + guard)) * (v[i] - vw[j]);
+          force += pair;
+          if (w.viscous_pairs) (*w.viscous_pairs)[k] = pair;  // scaled to a force below
+        }
         grad_sigma += (w.volume[j] * dW) * rel.unit_vector[k];
         moment += w.volume[j] * rel.distance[k] * dW;
       }
@@ -221,7 +275,14 @@ void WeaklyCompressibleFluid<Dim>::compute_prior_acceleration() {
     // makes the operator exact on quadratic fields in a full neighbourhood; the factor is held in
     // [1, 1.1] so that a free surface (a truncated support) is not amplified.
     const Real renormalisation = moment < 0 ? std::clamp(-Real(Dim) / moment, Real(1), Real(1.1)) : Real(1);
-    a[i] = g + (Real(2) * eta * renormalisation / rho[i]) * force;
+    const Real factor = Real(2) * eta * renormalisation / rho[i];
+    a[i] = g + factor * force;
+    for (const auto& w : views) {  // the recorded pairs as forces m_i a_pair on the fluid particle
+      if (!w.viscous_pairs) continue;
+      const auto& rel = *w.relation;
+      for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k)
+        (*w.viscous_pairs)[k] = (eta > 0 && w.no_slip) ? ((m[i] * factor) * (*w.viscous_pairs)[k]).eval() : Vec<Dim>::Zero();
+    }
     if (kappa > 0) shift_[i] = -Real(2) * kappa * h * h * grad_sigma;
   });
   if (kappa > 0) {
@@ -280,13 +341,13 @@ void WeaklyCompressibleFluid<Dim>::first_half(Real dt) {
     Vec<Dim> force = Vec<Dim>::Zero();
     const Real two_over_rho = Real(2) / rho[i];
     const Vec<Dim> vi = v[i];
-    const Real pi = p[i];
+    const Real p_i = p[i];
     for (std::size_t k = inner_.offsets[i]; k < inner_.offsets[i + 1]; ++k) {
       const Index j = inner_.neighbour[k];
       const PairState& sj = state_[j];
       const Vec<Dim>& e = inner_.unit_vector[k];
       const Real w_dot_e = (vi - sj.velocity).dot(e);
-      const Real p_star = Real(0.5) * (pi + sj.pressure) + limited(-w_dot_e);
+      const Real p_star = Real(0.5) * (p_i + sj.pressure) + limited(-w_dot_e);
       Real pair = two_over_rho * p_star * sj.volume;
       if (viscous) pair += rho[j] * V[j] * monaghan(w_dot_e, inner_.distance[k], Real(0.5) * (rho[i] + rho[j]));
       force -= (pair * inner_.kernel_derivative[k]) * e;
@@ -300,12 +361,13 @@ void WeaklyCompressibleFluid<Dim>::first_half(Real dt) {
         const Index j = rel.neighbour[k];
         const Vec<Dim>& e = rel.unit_vector[k];
         // x_w - x_i = -r e: the pressure extrapolated to the wall particle (Adami et al. 2012).
-        const Real p_wall = pi + rho[i] * rel.distance[k] * (g - aw[j]).dot(-e);
+        const Real p_wall = p_i + rho[i] * rel.distance[k] * (g - aw[j]).dot(-e);
         const Real jump = Real(2) * (vw[j] - vi).dot(nw[j]);
-        const Real p_star = Real(0.5) * (pi + p_wall) + limited(jump);
+        const Real p_star = Real(0.5) * (p_i + p_wall) + limited(jump);
         Real pair = two_over_rho * p_star * w.volume[j];
         if (viscous) pair += rho[i] * w.volume[j] * monaghan(Real(2) * (vi - vw[j]).dot(e), rel.distance[k], rho[i]);
         force -= (pair * rel.kernel_derivative[k]) * e;
+        if (w.pressure_pairs) (*w.pressure_pairs)[k] = (-(m[i] * pair * rel.kernel_derivative[k])) * e;
       }
     }
     a[i] = force;
@@ -337,14 +399,14 @@ void WeaklyCompressibleFluid<Dim>::second_half(Real dt) {
   parallel_for(n, [&](std::size_t i) {
     Real rate = 0;
     const Vec<Dim> vi = v[i];
-    const Real pi = p[i];
+    const Real p_i = p[i];
     for (std::size_t k = inner_.offsets[i]; k < inner_.offsets[i + 1]; ++k) {
       const Index j = inner_.neighbour[k];
       // 2 (U* - u_L) = (v_i - v_j).e_ij + beta (p_i - p_j) / (rho0 c0)
       const PairState& sj = state_[j];
       const Real w_dot_e = (vi - sj.velocity).dot(inner_.unit_vector[k]);
       const Real beta = std::min(limiter_slope * std::max(-w_dot_e, Real(0)), Real(1));
-      const Real flux = w_dot_e + beta * (pi - sj.pressure) * jump_scale;
+      const Real flux = w_dot_e + beta * (p_i - sj.pressure) * jump_scale;
       rate += sj.volume * flux * inner_.kernel_derivative[k];
     }
     for (const auto& w : views) {
@@ -387,6 +449,7 @@ Real WeaklyCompressibleFluid<Dim>::advection_time_step() const {
 template <int Dim>
 Real WeaklyCompressibleFluid<Dim>::plan_advection_step() {
   planned_acoustic_step_ = acoustic_time_step();
+  for (const auto& limit : acoustic_limits_) planned_acoustic_step_ = std::min(planned_acoustic_step_, limit());
   const Real steps = std::max(Real(1), std::round(advection_time_step() / planned_acoustic_step_));
   return steps * planned_acoustic_step_;
 }
@@ -440,17 +503,21 @@ typename WeaklyCompressibleFluid<Dim>::Energies WeaklyCompressibleFluid<Dim>::en
 }
 
 template <int Dim>
-Stage WeaklyCompressibleFluid<Dim>::advection_stage(SectionTimers& timers) {
+Stage WeaklyCompressibleFluid<Dim>::advection_stage(SectionTimers& timers, FluidStepHooks hooks) {
+  acoustic_limits_ = std::move(hooks.acoustic_step_limits);
   Stage acoustic{"acoustic", [this] { return planned_acoustic_step_; }, {}};
   acoustic.then("pressure force", timers.timed("fluid_pressure_force", [this](Real, Real dt) { first_half(dt); }))
       .then("continuity", timers.timed("fluid_continuity", [this](Real, Real dt) { second_half(dt); }));
+  for (auto& phase : hooks.acoustic) acoustic.phases.push_back(std::move(phase));
   Stage advection{"advection", [this] { return plan_advection_step(); }, {}};
+  for (auto& phase : hooks.before_neighbours) advection.phases.push_back(std::move(phase));
   advection.then("neighbours", timers.timed("fluid_neighbours", [this](Real, Real) { update_neighbours(); }))
       .then("density", timers.timed("fluid_density_and_viscous", [this](Real, Real) {
         reinitialise_density();
         compute_prior_acceleration();
-      }))
-      .sub_cycle(std::move(acoustic))
+      }));
+  for (auto& phase : hooks.after_forces) advection.phases.push_back(std::move(phase));
+  advection.sub_cycle(std::move(acoustic))
       .then("checks", [this](Real t, Real dt) {
         ++advection_steps_;
         check_state(t + dt);

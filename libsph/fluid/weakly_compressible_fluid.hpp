@@ -42,6 +42,14 @@
 // kernel values of the pairs frozen) use the position-based Verlet scheme (Zhang et al. 2021, JCP
 // 429:110028): rho += dt/2 drho/dt, p(rho), x += dt/2 v; force; v += dt a; x += dt/2 v; drho/dt; rho += dt/2 drho/dt.
 //
+// Bodies in the fluid (Zhang, Rezavand & Hu 2021, JCP 429:110028, sec. 3): a wall added with
+// WallForces::record keeps the force of every fluid-wall pair, so the force of the fluid on each wall
+// particle is exactly minus the sum of what its pairs gave the fluid (momentum is conserved to
+// round-off): the pressure part (Riemann pressure P* above) at each acoustic step, the viscous part
+// at each advection step. Scenes and couplings add their own work to the step through
+// FluidStepHooks: open boundaries before the neighbour search, body forces after the fluid's forces,
+// and bodies that sub-cycle at the end of every acoustic step (libsph/fsi/).
+//
 // Failure: after each advection step a particle whose density leaves [0.5, 2] rho0, whose state is
 // not finite, or which leaves the domain box stops the run with a NumericalFailure naming the
 // body, the particle, its position, the time and the quantity.
@@ -87,6 +95,17 @@ struct FluidNumerics {
   int sort_interval = 100;          ///< advection steps between re-sorts along the cell list; 0 = never
 };
 
+/// Whether a wall keeps the fluid's force on each of its particles (bodies, drag and lift) or not.
+enum class WallForces { ignore, record };
+
+/// What scenes and couplings add to the fluid's dual-criteria step (advection_stage), in order.
+struct FluidStepHooks {
+  std::vector<Phase> before_neighbours;  ///< at the start of an advection step: particles created or deleted
+  std::vector<Phase> after_forces;       ///< after density, viscous and body forces (viscous force on a body)
+  std::vector<Phase> acoustic;           ///< at the end of every acoustic step (bodies sub-cycling, inflow)
+  std::vector<std::function<Real()>> acoustic_step_limits;  ///< further upper bounds of the acoustic step
+};
+
 /// Declares fluid_scheme, riemann_limiter, artificial_viscosity, advection_cfl, acoustic_cfl,
 /// density_reinitialisation, transport_velocity and sort_interval.
 void declare_parameters(Parameters& p, FluidNumerics& numerics);
@@ -113,13 +132,18 @@ class WeaklyCompressibleFluid {
   WeaklyCompressibleFluid(ParticleSet<Dim>& particles, Settings settings);
   ~WeaklyCompressibleFluid();
 
-  /// A wall the fluid cannot cross (must outlive the fluid; its particles are not re-sorted).
-  void add_wall(const FluidWall<Dim>& wall);
+  /// A wall the fluid cannot cross (must outlive the fluid; its particles are not re-sorted, but
+  /// may move); returns its index k. With WallForces::record, wall_forces(k, ...) gives the fluid's
+  /// force on each of its particles.
+  std::size_t add_wall(const FluidWall<Dim>& wall, WallForces forces = WallForces::ignore);
+  /// The force of the fluid on each particle of wall k (added with WallForces::record): the
+  /// pressure part from the last acoustic step and the viscous part from the last advection step.
+  void wall_forces(std::size_t k, std::span<Vec<Dim>> pressure, std::span<Vec<Dim>> viscous) const;
 
   /// The dual-criteria step: an advection stage (neighbours, density, viscous and body forces)
-  /// holding the acoustic stage (pressure force and continuity) as sub-steps. Phases are timed in
-  /// `timers` (which must outlive the stage).
-  Stage advection_stage(SectionTimers& timers);
+  /// holding the acoustic stage (pressure force and continuity) as sub-steps, with the scene's
+  /// hooks. Phases are timed in `timers` (which must outlive the stage).
+  Stage advection_stage(SectionTimers& timers, FluidStepHooks hooks = {});
 
   // The parts of the step, for tests and custom stages.
   void update_neighbours();
@@ -133,8 +157,9 @@ class WeaklyCompressibleFluid {
   /// The advection criterion dt_ad and the acoustic criterion dt_ac (see above).
   Real advection_time_step() const;
   Real acoustic_time_step() const;
-  /// The step of the advection stage: dt_ac now times the whole number of acoustic steps nearest to
-  /// dt_ad / dt_ac (at least one); the acoustic sub-steps of that advection step are then dt_ac.
+  /// The step of the advection stage: dt_ac now (bounded by the hooks' limits) times the whole
+  /// number of acoustic steps nearest to dt_ad / dt_ac (at least one); the acoustic sub-steps of
+  /// that advection step are then dt_ac.
   Real plan_advection_step();
 
   struct Energies {
@@ -167,12 +192,15 @@ class WeaklyCompressibleFluid {
 
  private:
   struct WallContact;
-  // A wall's relation and fields as spans, taken once when the wall is added.
+  // A wall's relation and fields as spans, taken once when the wall is added; with recorded forces,
+  // the force of each pair on the fluid (pressure and viscous parts).
   struct WallView {
     const ContactRelation<Dim>* relation;
     std::span<const Real> volume;
     std::span<const Vec<Dim>> velocity, acceleration, normal;
     bool no_slip;
+    std::vector<Vec<Dim>>* pressure_pairs;  // null unless recorded
+    std::vector<Vec<Dim>>* viscous_pairs;
   };
 
   ParticleSet<Dim>& particles_;
@@ -186,6 +214,7 @@ class WeaklyCompressibleFluid {
   std::vector<std::unique_ptr<WallContact>> walls_;
   std::vector<WallView> views_;
   std::vector<Vec<Dim>> shift_;  // scratch of the transport-velocity shift
+  std::vector<std::function<Real()>> acoustic_limits_;
   // What the pair loops read of a neighbour, packed so that one neighbour costs one cache line
   // instead of three (copied from the fields in the update loops of the acoustic step).
   struct PairState {

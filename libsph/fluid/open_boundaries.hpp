@@ -1,0 +1,84 @@
+#pragma once
+// Open boundaries of a channel flow along +x (axis 0).
+//
+// Inflow zone (buffer): an axis-aligned box [lower, upper] in which the fluid's velocity is imposed,
+// v = u(x, t) (e.g. a parabolic profile ramped up in time), at the end of every acoustic step. With
+// emission on, the zone is also an emitter (the "emitter inflow injection" of SPHinXsys, Zhang et
+// al. 2021, Comput. Phys. Commun. 267:108066): at each advection step, a buffer particle that has
+// crossed the downstream face x = upper_x becomes an ordinary fluid particle and a copy of it (same
+// density, mass and velocity) enters at x - (upper_x - lower_x), so every row of the lattice in the
+// buffer stays full. Without emission the zone serves a periodic channel (the particles leaving the
+// outlet come back through the periodic seam into the buffer).
+//
+// Outflow zone: the particles beyond x = outlet are deleted at each advection step.
+//
+// Both change the number of fluid particles only at the start of an advection step, before the
+// neighbour search (FluidStepHooks::before_neighbours), through ParticleSet::select, which keeps
+// every field consistent; the relations are rebuilt right after.
+//
+// Checks: an imposed speed above c0 / 10 (Mach 0.1, the weakly-compressible limit of the fluid's
+// sound speed) is refused: at the set-up from the profile's stated peak, and at every imposition.
+
+#include <functional>
+#include <string>
+
+#include "libsph/core/section_timers.hpp"
+#include "libsph/fluid/weakly_compressible_fluid.hpp"
+
+namespace sph {
+
+template <int Dim>
+class InflowZone {
+ public:
+  using Profile = std::function<Vec<Dim>(const Vec<Dim>& position, Real time)>;
+  struct Settings {
+    Vec<Dim> lower = Vec<Dim>::Zero(), upper = Vec<Dim>::Zero();  ///< the buffer box
+    Profile velocity;        ///< imposed velocity
+    Real peak_speed = 0;     ///< the largest |velocity| of the profile (checked against c0 / 10)
+    bool emit = true;        ///< create particles (open inlet); false: periodic channel
+  };
+
+  /// Throws std::invalid_argument for an empty box, no profile, or a peak above c0 / 10.
+  InflowZone(WeaklyCompressibleFluid<Dim>& fluid, Settings settings);
+
+  /// Imposes the profile on the fluid particles inside the box.
+  void impose(Real time);
+  /// Emits a particle for each buffer particle that has left through the downstream face; returns
+  /// the number emitted.
+  std::size_t emit();
+  /// Adds emission (before the neighbour search) and imposition (after every acoustic step).
+  void add_to(FluidStepHooks& hooks, SectionTimers& timers);
+  std::size_t emitted() const { return emitted_; }
+
+ private:
+  bool inside(const Vec<Dim>& x) const;
+
+  WeaklyCompressibleFluid<Dim>& fluid_;
+  Settings settings_;
+  FieldHandle<Real> in_buffer_;  // 1 for a particle inside the box at the last emission pass
+  std::size_t emitted_ = 0;
+  std::vector<Index> order_;
+};
+
+template <int Dim>
+class OutflowZone {
+ public:
+  OutflowZone(WeaklyCompressibleFluid<Dim>& fluid, Real outlet) : fluid_(fluid), outlet_(outlet) {}
+  /// Deletes the fluid particles with x > outlet; returns the number deleted.
+  std::size_t remove();
+  void add_to(FluidStepHooks& hooks, SectionTimers& timers);
+  std::size_t removed() const { return removed_; }
+
+ private:
+  WeaklyCompressibleFluid<Dim>& fluid_;
+  Real outlet_;
+  std::size_t removed_ = 0;
+  std::vector<Index> order_;
+};
+
+extern template class InflowZone<2>;
+extern template class InflowZone<3>;
+extern template class OutflowZone<2>;
+extern template class OutflowZone<3>;
+
+}  // namespace sph
