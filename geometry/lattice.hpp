@@ -48,3 +48,23 @@ sph::ParticleSet<Dim> lattice_box(const std::string& name, const sph::Vec<Dim>& 
 }
 
 }  // namespace geometry
+
+namespace geometry {
+
+/// The cell centres of the lattice of spacing `spacing` on [lower, upper] (a whole number of
+/// spacings) for which inside(x) holds, each with the volume spacing^Dim of its cell.
+template <int Dim, class Inside>
+sph::ParticleSet<Dim> lattice_where(const std::string& name, const sph::Vec<Dim>& lower, const sph::Vec<Dim>& upper,
+                                    sph::Real spacing, Inside inside) {
+  const auto all = lattice_box<Dim>(name, lower, upper, spacing);
+  std::vector<sph::Vec<Dim>> positions;
+  for (const auto& x : all.position)
+    if (inside(x)) positions.push_back(x);
+  if (positions.empty()) throw std::invalid_argument("lattice '" + name + "': no cell centre lies inside the shape");
+  sph::Real volume = 1;
+  for (int d = 0; d < Dim; ++d) volume *= spacing;
+  const std::size_t n = positions.size();
+  return sph::ParticleSet<Dim>(name, std::move(positions), std::vector<sph::Real>(n, volume));
+}
+
+}  // namespace geometry

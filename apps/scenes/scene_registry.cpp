@@ -2,6 +2,7 @@
 #include "apps/scenes/electromechanics/em_scenes.hpp"
 #include "apps/scenes/electrophysiology/ep_scenes.hpp"
 #include "apps/scenes/fluid/fluid_scenes.hpp"
+#include "apps/scenes/fsi/fsi_scenes.hpp"
 #include "apps/scenes/geometry/geometry_scenes.hpp"
 #include "apps/scenes/scene.hpp"
 #include "apps/scenes/solid/solid_scenes.hpp"
@@ -54,6 +55,18 @@ const std::vector<SceneEntry>& scene_registry() {
        [] { return make_poiseuille_scene(); }},
       {"lid-driven-cavity", "2D lid-driven cavity at Re 100 (preset re1000): centre lines against Ghia et al. 1982",
        [] { return make_lid_driven_cavity_scene(); }},
+      {"hydrostatic-plate", "2D water column on an elastic plate clamped at both ends (Fourey et al. 2017): mid-span "
+                            "deflection against the clamped-plate value",
+       [] { return make_hydrostatic_plate_scene(); }},
+      {"turek-hron-fsi2", "2D flexible bar behind a cylinder in a channel, Re 100 (Turek & Hron 2006 FSI2): tip "
+                          "amplitude and frequency, drag and lift",
+       [] { return make_channel_flow_scene("turek-hron-fsi2", turek_hron_defaults()); }},
+      {"cylinder-flow", "2D channel flow past a fixed cylinder, Re 100 (Schaefer & Turek 1996, 2D-2): Strouhal number, "
+                        "drag and lift coefficients",
+       [] { return make_channel_flow_scene("cylinder-flow", cylinder_flow_defaults()); }},
+      {"elastic-gate", "2D dam break through an elastic gate (Antoci et al. 2007, SPHinXsys setup): gate-tip "
+                       "displacement x(t), y(t)",
+       [] { return make_elastic_gate_scene(); }},
   };
   return scenes;
 }

@@ -14,7 +14,7 @@ namespace sph {
 
 const std::vector<std::pair<std::string, FluidScheme>>& fluid_scheme_names() {
   static const std::vector<std::pair<std::string, FluidScheme>> names{
-      {"riemann", FluidScheme::riemann}, {"plain", FluidScheme::plain},
+      {"riemann", FluidScheme::riemann}, {"pressure_diffusion", FluidScheme::pressure_diffusion}, {"plain", FluidScheme::plain},
       {"artificial_viscosity", FluidScheme::artificial_viscosity}};
   return names;
 }
@@ -29,7 +29,8 @@ const std::vector<std::pair<std::string, DensityReinitialisation>>& density_rein
 
 void declare_parameters(Parameters& p, FluidNumerics& n) {
   p.add_enum("fluid_scheme", n.scheme, fluid_scheme_names(),
-             "pair interaction: riemann (low-dissipation limiter, Zhang et al. 2017), plain (no dissipation) or "
+             "pair interaction: riemann (low-dissipation limiter, Zhang et al. 2017), pressure_diffusion (the Riemann "
+             "pressure jump in the continuity equation only, unlimited: internal flows), plain (no dissipation) or "
              "artificial_viscosity (Monaghan 1992)");
   p.add("riemann_limiter", n.limiter_strength, "-", "eta of the low-dissipation limiter beta = min(eta du / c0, 1)",
         Range::non_negative());
@@ -392,10 +393,15 @@ void WeaklyCompressibleFluid<Dim>::second_half(Real dt) {
   auto& V = particles_.volume;
   const std::size_t n = particles_.n_particles();
   parallel_for(n, [&](std::size_t i) { x[i] += Real(0.5) * dt * v[i]; });
-  const bool riemann = settings_.numerics.scheme == FluidScheme::riemann;
+  const auto scheme = settings_.numerics.scheme;
+  const bool diffusion = scheme == FluidScheme::pressure_diffusion;
   const Real c0 = eos.sound_speed;
-  const Real limiter_slope = settings_.numerics.limiter_strength / c0;
-  const Real jump_scale = riemann ? Real(1) / (eos.reference_density * c0) : Real(0);
+  // pressure_diffusion: beta = 1 for every pair (a slope so steep that the limiter is always 1).
+  const Real limiter_slope = diffusion ? std::numeric_limits<Real>::max() : settings_.numerics.limiter_strength / c0;
+  const Real jump_scale =
+      scheme == FluidScheme::riemann || diffusion ? Real(1) / (eos.reference_density * c0) : Real(0);
+  const Real wall_jump_scale = diffusion ? jump_scale : Real(0);
+  const Vec<Dim> g = settings_.body_force;
   parallel_for(n, [&](std::size_t i) {
     Real rate = 0;
     const Vec<Dim> vi = v[i];
@@ -405,17 +411,21 @@ void WeaklyCompressibleFluid<Dim>::second_half(Real dt) {
       // 2 (U* - u_L) = (v_i - v_j).e_ij + beta (p_i - p_j) / (rho0 c0)
       const PairState& sj = state_[j];
       const Real w_dot_e = (vi - sj.velocity).dot(inner_.unit_vector[k]);
-      const Real beta = std::min(limiter_slope * std::max(-w_dot_e, Real(0)), Real(1));
+      const Real beta = diffusion ? Real(1) : std::min(limiter_slope * std::max(-w_dot_e, Real(0)), Real(1));
       const Real flux = w_dot_e + beta * (p_i - sj.pressure) * jump_scale;
       rate += sj.volume * flux * inner_.kernel_derivative[k];
     }
     for (const auto& w : views) {
       const auto& rel = *w.relation;
       const auto& vw = w.velocity;
+      const auto& aw = w.acceleration;
       for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
         const Index j = rel.neighbour[k];
-        // mirrored velocity 2 v_w - v_i: v_i - v_ghost = 2 (v_i - v_w)
-        rate += w.volume[j] * Real(2) * (v[i] - vw[j]).dot(rel.unit_vector[k]) * rel.kernel_derivative[k];
+        const Vec<Dim>& e = rel.unit_vector[k];
+        // mirrored velocity 2 v_w - v_i: v_i - v_ghost = 2 (v_i - v_w); with pressure_diffusion also
+        // the jump p_i - p_w = rho_i r (g - a_w).e to the extrapolated wall pressure
+        const Real jump = rho[i] * rel.distance[k] * (g - aw[j]).dot(e) * wall_jump_scale;
+        rate += w.volume[j] * (Real(2) * (v[i] - vw[j]).dot(e) + jump) * rel.kernel_derivative[k];
       }
     }
     drho[i] = rho[i] * rate;

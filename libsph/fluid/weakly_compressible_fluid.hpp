@@ -17,7 +17,13 @@
 // with the same limiter beta (without it the pressure jump diffuses the density with a coefficient
 // of order c0 h, which at Mach 0.1 erases a hydrostatic or vortical pressure field within a
 // fraction of a time unit: measured on the hydrostatic tank and the Taylor-Green vortex); the
-// pressure jump is dropped for plain and artificial_viscosity.
+// pressure jump is dropped for plain and artificial_viscosity. scheme = pressure_diffusion keeps the
+// pressure jump of the continuity equation with beta = 1 for every pair (at the wall, the jump to
+// the extrapolated wall pressure) and drops the momentum dissipation: the scheme SPHinXsys runs its
+// internal flows with (Integration1stHalfWithWallRiemann with Integration2ndHalfWithWallNoRiemann),
+// whose density diffusion of coefficient about c0 h is harmless where the density is re-initialised
+// from the particle distribution every advection step, and which leaves vortex shedding undamped
+// (docs/fsi.md: the limited momentum dissipation of riemann suppresses the shedding at Re 100).
 // Wall (Zhang et al. 2017, sec. 3.3; Adami, Hu & Adams 2012, eq. 27): a wall particle w takes the
 // fluid particle's density, the mirrored velocity 2 v_w - v_i, and the pressure extrapolated with the
 // body force, p_w = p_i + rho_i (g - a_w).(x_w - x_i); the dissipation uses the jump of the normal
@@ -76,7 +82,7 @@ namespace sph {
 
 class Parameters;
 
-enum class FluidScheme { riemann, plain, artificial_viscosity };
+enum class FluidScheme { riemann, pressure_diffusion, plain, artificial_viscosity };
 enum class DensityReinitialisation { free_surface, internal, none };
 
 const std::vector<std::pair<std::string, FluidScheme>>& fluid_scheme_names();

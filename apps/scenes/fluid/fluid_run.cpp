@@ -71,7 +71,9 @@ FluidRunSummary run_fluid(sph::WeaklyCompressibleFluid<Dim>& fluid, std::vector<
   auto& body = fluid.particles();
   sph::TimeStepper stepper(0, static_cast<sph::Real>(plan.end_time));
   sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, plan.scene, ctx.quiet});
-  stepper.add_stage(fluid.advection_stage(run.timers()));
+  sph::FluidStepHooks hooks;
+  if (plan.extend) plan.extend(run, hooks);
+  stepper.add_stage(fluid.advection_stage(run.timers(), std::move(hooks)));
   if (plan.every_step) stepper.add_step_callback(plan.every_step);
   run.add_body(body, static_cast<sph::Real>(plan.output_interval));
   for (auto* wall : walls) run.add_body(wall->particles(), 0);
@@ -119,7 +121,7 @@ FluidRunSummary run_fluid(sph::WeaklyCompressibleFluid<Dim>& fluid, std::vector<
   }
   fill();
   run.add_relation(body.name(), fluid.inner_relation());
-  for (std::size_t k = 0; k < fluid.n_walls(); ++k)
+  for (std::size_t k = 0; k < std::min(fluid.n_walls(), walls.size()); ++k)
     run.add_relation(body.name() + "_to_" + walls[k]->particles().name(), fluid.wall_relation(k));
   return summary;
 }

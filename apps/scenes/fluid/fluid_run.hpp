@@ -67,6 +67,9 @@ struct FluidRunPlan {
   std::vector<std::string> observer_columns;  ///< columns of observers.csv after time (none: no file)
   sph::RunHarness::Row observers;
   std::function<void(const sph::StepInfo&)> every_step;  ///< after every advection step (may be empty)
+  /// Adds bodies, couplings and open boundaries to the run (may be empty): their outputs on the
+  /// harness, their work on the fluid's step through the hooks.
+  std::function<void(sph::RunHarness&, sph::FluidStepHooks&)> extend;
 };
 
 struct FluidRunSummary {
@@ -76,7 +79,7 @@ struct FluidRunSummary {
   double time_loop_seconds = 0;
 };
 
-/// Runs the fluid from t = 0 to the end time with its walls. Writes <fluid>.pvd with its .vtu files,
+/// Runs the fluid from t = 0 to the end time with its walls (the first walls of the fluid, in order). Writes <fluid>.pvd with its .vtu files,
 /// each wall's first and last state, <fluid>_energy.csv (time, kinetic, potential, internal, total,
 /// max speed) and observers.csv into ctx.output_dir. Fills steps, particles, memory, sound_speed,
 /// advection_steps, acoustic_steps, particle_steps_per_second and max_mach in ctx.report.
