@@ -311,37 +311,3 @@ TEST(Fsi, SolidThinnerThanOneFluidParticleIsRefused) {
 
 }  // namespace
 
-namespace {
-TEST(FsiScratch, PlateAloneUnderUniformLoad) {
-  const Real dps = Real(std::getenv("DPS") ? std::atof(std::getenv("DPS")) : 0.0125), t = Real(0.05), W = 1, bw = Real(0.1);
-  auto plate = geometry::lattice_box<2>("plate", Vec2(-bw, -t), Vec2(W + bw, 0), dps);
-  const Real ratio = Real(std::getenv("HR") ? std::atof(std::getenv("HR")) : 1.3);
-  auto relation = sph::build_inner_relation<2>(plate.position, sph::WendlandC2<2>{}, ratio * dps);
-  Solid::Settings s;
-  Real lambda = 0, mu = 0;
-  sph::lame_constants(Real(6.75e10), Real(0.34), lambda, mu);
-  s.material = sph::SaintVenantKirchhoff<2>{lambda, mu};
-  s.density = 2700;
-  s.damping_rate = 2000;
-  if (std::getenv("HG")) s.numerics.hourglass_coefficient = Real(std::atof(std::getenv("HG")));
-  Solid solid(plate, relation, s);
-  std::vector<sph::Index> clamped, top;
-  std::vector<Real> area;
-  for (std::size_t i = 0; i < plate.n_particles(); ++i) {
-    const auto& x = plate.position[i];
-    if (x[0] < 0 || x[0] > W) clamped.push_back(sph::Index(i));
-    else if (x[1] > -dps) { top.push_back(sph::Index(i)); area.push_back(dps); }
-  }
-  solid.clamp(clamped);
-  const Real q = Real(9.81 * (2000 + 2700 * 0.05));
-  solid.add_traction_load(top, area, [q](Real) { return Vec2(0, -q); });
-  sph::TimeStepper stepper(0, Real(0.05));
-  stepper.add_stage(sph::make_stage("solid", [&] { return solid.stable_time_step(); }, [&](Real tt, Real dt) { solid.advance(tt, dt); }));
-  stepper.run();
-  const auto X = plate.field(solid.reference_position_field());
-  double sum = 0; int n = 0;
-  for (std::size_t i = 0; i < plate.n_particles(); ++i)
-    if (std::abs(plate.position[i][0] - W / 2) < dps) { sum += plate.position[i][1] - X[i][1]; ++n; }
-  std::printf("plate alone: %.4e (thin plate %.4e)\n", sum / n, -q / (384 * 6.75e10 * 0.05 * 0.05 * 0.05 / (12 * (1 - 0.34 * 0.34))));
-}
-}  // namespace
