@@ -47,6 +47,24 @@ std::vector<Vec2> box_normals(const sph::ParticleSet<2>& body, const Vec2& lower
   return n;
 }
 
+// Four layers of wall particles around a tank of width W and height 2 H.
+geometry::WallParticles<2> tank_walls(Real dp, Real W, Real H) {
+  const auto box = geometry::make_box(geometry::Vec3(0, 0, -1), geometry::Vec3(W, 2 * H, 1));
+  return geometry::wall_particles<2>("tank", *box, Vec2(-4 * dp, -4 * dp), Vec2(W + 4 * dp, 2 * H + 4 * dp), dp, 4 * dp);
+}
+
+// Water at rest with its free surface at height H: p = rho0 g (H - y), the lattice volume kept.
+void set_hydrostatic(Fluid& fluid, Real g, Real H) {
+  auto& water = fluid.particles();
+  auto rho = water.field(fluid.density_field());
+  auto m = water.field(fluid.mass_field());
+  for (std::size_t i = 0; i < water.n_particles(); ++i) {
+    rho[i] = fluid.settings().equation_of_state.density(g * (H - water.position[i][1]));
+    m[i] = rho[i] * water.volume[i];
+  }
+  fluid.update_pressure();
+}
+
 Solid::Settings soft_solid(Real density, Real young) {
   Solid::Settings s;
   Real lambda = 0, mu = 0;
@@ -129,22 +147,14 @@ TEST(Fsi, MomentumOfFluidAndSolidIsConservedAcrossSubCycling) {
 TEST(Fsi, RecordedWallForceOfWaterAtRestIsItsWeight) {
   const Real dp = Real(0.05), g = 1, H = 1, W = 1;
   auto water = geometry::lattice_box<2>("water", Vec2::Zero(), Vec2(W, H), dp);
-  const auto box = geometry::make_box(geometry::Vec3(0, 0, -1), geometry::Vec3(W, 2 * H, 1));
-  auto wall_set = geometry::wall_particles<2>("tank", *box, Vec2(-4 * dp, -4 * dp), Vec2(W + 4 * dp, 2 * H + 4 * dp), dp,
-                                              4 * dp);
+  auto wall_set = tank_walls(dp, W, H);
   sph::FluidWall<2> tank(wall_set.particles, wall_set.normals);
   auto settings = basic_settings(dp, 10 * std::sqrt(g * H));
   settings.body_force = Vec2(0, -g);
   settings.reference_speed = std::sqrt(g * H);
   Fluid fluid(water, settings);
   const std::size_t k = fluid.add_wall(tank, sph::WallForces::record);
-  auto rho = water.field(fluid.density_field());
-  auto m = water.field(fluid.mass_field());
-  for (std::size_t i = 0; i < water.n_particles(); ++i) {
-    rho[i] = settings.equation_of_state.density(g * (H - water.position[i][1]));
-    m[i] = rho[i] * water.volume[i];
-  }
-  fluid.update_pressure();
+  set_hydrostatic(fluid, g, H);
   sph::SectionTimers timers;
   sph::TimeStepper stepper(0, Real(0.5));
   stepper.add_stage(fluid.advection_stage(timers));
@@ -154,7 +164,7 @@ TEST(Fsi, RecordedWallForceOfWaterAtRestIsItsWeight) {
   Vec2 total = Vec2::Zero();
   for (std::size_t j = 0; j < fp.size(); ++j) total += fp[j] + fv[j];
   double weight = 0;
-  for (std::size_t i = 0; i < water.n_particles(); ++i) weight += m[i] * g;
+  for (std::size_t i = 0; i < water.n_particles(); ++i) weight += water.field(fluid.mass_field())[i] * g;
   std::printf("force on the tank (%.5f, %.5f) against the weight %.5f: %.2f %%\n", double(total[0]), double(total[1]),
               weight, 100 * (-total[1] - weight) / weight);
   EXPECT_NEAR(-total[1], weight, 0.02 * weight);
@@ -186,22 +196,14 @@ TEST(Fsi, RigidDiscSinksWithTheArchimedesAcceleration) {
   water.select(fluid_ids);
   std::vector<Vec2> normals;
   for (const auto& x : disc.position) normals.push_back((x - c).norm() > 0 ? Vec2((x - c).normalized()) : Vec2(0, 1));
-  const auto box = geometry::make_box(geometry::Vec3(0, 0, -1), geometry::Vec3(W, 2 * H, 1));
-  auto wall_set = geometry::wall_particles<2>("tank", *box, Vec2(-4 * dp, -4 * dp), Vec2(W + 4 * dp, 2 * H + 4 * dp), dp,
-                                              4 * dp);
+  auto wall_set = tank_walls(dp, W, H);
   sph::FluidWall<2> tank(wall_set.particles, wall_set.normals);
   auto settings = basic_settings(dp, 10 * std::sqrt(g * H));
   settings.body_force = Vec2(0, -g);
   settings.reference_speed = std::sqrt(g * H);
   Fluid fluid(water, settings);
   fluid.add_wall(tank);
-  auto rho = water.field(fluid.density_field());
-  auto m = water.field(fluid.mass_field());
-  for (std::size_t i = 0; i < water.n_particles(); ++i) {
-    rho[i] = settings.equation_of_state.density(g * (H - water.position[i][1]));
-    m[i] = rho[i] * water.volume[i];
-  }
-  fluid.update_pressure();
+  set_hydrostatic(fluid, g, H);
   sph::RigidBody<2> body(fluid, disc, normals, {Real(2), sph::RigidMotion::free, Vec2::Zero(), Vec2(0, -g)});
   sph::SectionTimers timers;
   sph::FluidStepHooks hooks;
