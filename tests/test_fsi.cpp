@@ -309,6 +309,15 @@ TEST(Fsi, SolidThinnerThanOneFluidParticleIsRefused) {
   Solid solid2(plate2, relation2, soft_solid(1, 100));
   sph::SolidFluidCoupling<2> coupling(fluid, solid2, box_normals(plate2, lo2, hi), {dp / 4, true});
   EXPECT_NEAR(coupling.thickness(), 0.05, 1e-6);
+  // The acceleration relaxation must lie in (0, 1].
+  for (Real theta : {Real(0), Real(-0.1), Real(1.5)}) {
+    try {
+      sph::SolidFluidCoupling<2> relaxed(fluid, solid2, box_normals(plate2, lo2, hi), {dp / 4, true, theta});
+      FAIL() << "acceleration relaxation " << theta << " was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("acceleration relaxation"), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace

@@ -32,7 +32,7 @@ TEST(FsiValidation, CylinderFlowStrouhalAndDrag) {
 
 // Turek & Hron FSI2 in the SPHinXsys setup (dp 0.1, bar at twice the fluid's resolution) to t = 100,
 // analysed over [70, 100]: the bar flaps with a tip y amplitude within 25 % of 0.806 D and a frequency
-// within 20 % of 0.2 U / D (measured over [100, 200] of the full run: 0.93 and 0.174, the bar of four
+// within 20 % of 0.2 U / D (measured here 0.922 and 0.175; over [100, 200] of the full run 0.921 and 0.176: the bar of four
 // particles across is too soft in bending, docs/fsi.md).
 TEST(FsiValidation, TurekHronFsi2Flaps) {
   auto p = cardiosph::turek_hron_defaults();
@@ -49,9 +49,10 @@ TEST(FsiValidation, TurekHronFsi2Flaps) {
 
 // The water column on the clamped plate at 4 solid particles across the plate and the fluid 4 times
 // coarser, to t = 0.2: the plate sags, and its mid-span deflection lies within a factor 1.8 of the
-// thin-plate value (measured 1.66: the TLSPH plate of four particles across is 70 % too soft in
-// bending on its own, under the same load without fluid; SPHinXsys's own case at its resolution
-// is 44 % too deep. The 2 % the benchmark asks for is not reached: docs/fsi.md).
+// thin-plate value (measured 1.10 here, but 1.76 at the default fluid ratio 2 and t = 0.5: the TLSPH
+// plate of four particles across is 70 % too soft in bending on its own, under the same load without
+// fluid, so the coarse figure is a cancellation of errors, not agreement. SPHinXsys's own case at its
+// resolution is 44 % too deep. The 2 % the benchmark asks for is not reached: docs/fsi.md).
 TEST(FsiValidation, HydrostaticPlateSags) {
   cardiosph::HydrostaticPlateParameters p;
   p.fluid_ratio = 4;
@@ -63,6 +64,25 @@ TEST(FsiValidation, HydrostaticPlateSags) {
   EXPECT_EQ(r.status, "completed");
   EXPECT_LT(result(r, "mid_span_deflection"), 0);
   EXPECT_LT(error(r, "deflection_relative"), 0.8);
+}
+
+// The dam break through the elastic gate (Antoci et al. 2007) at SPHinXsys's resolution (2 fluid and
+// 4 solid particles across the gate), to t = 150 ms, past the gate's widest opening: against
+// SPHinXsys's run of the same setup, the largest |dx| of the free corner within 10 % (measured 5.2 %),
+// its largest dy within 25 % (measured 15 %), and the RMS difference of dx over the curve within
+// 10 % of SPHinXsys's largest |dx|.
+TEST(FsiValidation, ElasticGateOpensAsSphinxsys) {
+  cardiosph::ElasticGateParameters p;
+  p.end_time = 150;
+  const auto r = run_scene(*cardiosph::make_elastic_gate_scene(p), "gate");
+  std::printf("elastic-gate t = 150 ms: max |dx| %.2f mm (SPHinXsys 45.13, %.1f %%), max dy %.2f mm (18.81, %.1f %%), "
+              "RMS dx difference %.1f %%; %.1f s\n",
+              result(r, "tip_max_abs_dx"), 100 * error(r, "tip_max_dx_relative"), result(r, "tip_max_dy"),
+              100 * error(r, "tip_max_dy_relative"), 100 * error(r, "tip_dx_rms_relative"), r.wall_time_s);
+  EXPECT_EQ(r.status, "completed");
+  EXPECT_LT(error(r, "tip_max_dx_relative"), 0.10);
+  EXPECT_LT(error(r, "tip_max_dy_relative"), 0.25);
+  EXPECT_LT(error(r, "tip_dx_rms_relative"), 0.10);
 }
 
 // A plate 1000 times stiffer (its solid sub-cycles about 30 times more) and one 100 times softer

@@ -59,6 +59,9 @@ SolidFluidCoupling<Dim>::SolidFluidCoupling(WeaklyCompressibleFluid<Dim>& fluid,
   auto& particles = solid_.particles();
   const std::string body = "solid '" + particles.name() + "' in fluid '" + fluid_.particles().name() + "'";
   if (!(settings_.solid_spacing > 0)) throw std::invalid_argument(body + ": the solid spacing must be positive");
+  if (!(settings_.acceleration_relaxation > 0 && settings_.acceleration_relaxation <= 1))
+    throw std::invalid_argument(body + ": the acceleration relaxation " + std::to_string(settings_.acceleration_relaxation) +
+                                " must be in (0, 1]");
   const Real fluid_dp = fluid_.settings().particle_spacing;
   std::size_t thinnest = 0;
   thickness_ = body_thickness<Dim>(particles.position, reference_normal_, settings_.solid_spacing,
@@ -119,9 +122,10 @@ void SolidFluidCoupling<Dim>::end_step(Real dt) {
   auto v_avg = particles.field(wall_.velocity_field());
   auto a_avg = particles.field(wall_.acceleration_field());
   const Real inverse = Real(1) / dt;
+  const Real theta = settings_.acceleration_relaxation;
   parallel_for(particles.n_particles(), [&](std::size_t i) {
     v_avg[i] = (particles.position[i] - start_position_[i]) * inverse;
-    a_avg[i] = (v[i] - start_velocity_[i]) * inverse;
+    a_avg[i] += theta * ((v[i] - start_velocity_[i]) * inverse - a_avg[i]);
   });
 }
 

@@ -175,7 +175,7 @@ class ChannelFlowScene final : public Scene {
       spec.young_modulus = p_.young_modulus;
       spec.poisson_ratio = p_.poisson_ratio;
       spec.clamped = [&](const Vec2& x) { return (x - centre).norm() < r; };
-      bar = make_fsi_body(std::move(body_particles), normals, spec, p_.numerics, p_.solid, fluid, "bar_thickness");
+      bar = make_fsi_body(std::move(body_particles), normals, spec, p_.solid, fluid, "bar_thickness");
       for (std::size_t i = 0; i < bar->particles.n_particles(); ++i)
         if (bar->particles.position[i][0] > bar_end - dps) tip.push_back(i);
     } else {

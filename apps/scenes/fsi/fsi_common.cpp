@@ -9,22 +9,29 @@
 namespace cardiosph {
 
 void declare_fsi_solid_numerics(sph::Parameters& p, FsiSolidNumerics& n) {
+  p.add_choice("solid_kernel", n.kernel, std::vector<std::string>(std::begin(sph::kernel_names), std::end(sph::kernel_names)),
+               "the solid's smoothing kernel (the fluid-solid contact uses the fluid's)");
+  p.add("solid_smoothing_length_ratio", n.smoothing_length_ratio, "-",
+        "the solid's smoothing length over the solid spacing", sph::Range::closed(1.0, 2.5));
   p.add("hourglass_coefficient", n.hourglass_coefficient, "-",
         "alpha of the solid's hourglass penalty force (Ganzenmueller 2015); 0 turns it off", sph::Range::non_negative());
   p.add("solid_acoustic_cfl", n.acoustic_cfl, "-", "solid time step as a fraction of its acoustic limit",
         {0, 1, true, false});
   p.add("sub_cycling", n.sub_cycling,
         "multi time stepping: the solid sub-cycles in each fluid acoustic step (false: the solid's step bounds the fluid's)");
+  p.add("acceleration_relaxation", n.acceleration_relaxation, "-",
+        "theta: the weight of the newest step-mean solid acceleration in the one the fluid's wall pressure uses (1: no relaxation)",
+        {0, 1, true, false});
 }
 
 std::unique_ptr<FsiBody> make_fsi_body(sph::ParticleSet<2> particles, const std::vector<sph::Vec<2>>& normals,
-                                       const FsiBodySpec& spec, const FluidSceneNumerics& fluid_numerics,
+                                       const FsiBodySpec& spec,
                                        const FsiSolidNumerics& numerics, sph::WeaklyCompressibleFluid<2>& fluid,
                                        const std::string& thickness_parameter) {
   auto body = std::make_unique<FsiBody>();
   body->particles = std::move(particles);
-  const auto kernel = sph::make_kernel<2>(fluid_numerics.discretisation.kernel);
-  const auto h = static_cast<sph::Real>(fluid_numerics.discretisation.smoothing_length_ratio * spec.spacing);
+  const auto kernel = sph::make_kernel<2>(numerics.kernel);
+  const auto h = static_cast<sph::Real>(numerics.smoothing_length_ratio * spec.spacing);
   body->relation = sph::build_inner_relation<2>(body->particles.position, kernel, h);
   sph::ElasticSolid<2>::Settings settings;
   sph::Real lambda = 0, mu = 0;
@@ -45,7 +52,8 @@ std::unique_ptr<FsiBody> make_fsi_body(sph::ParticleSet<2> particles, const std:
   try {
     body->coupling = std::make_unique<sph::SolidFluidCoupling<2>>(
         fluid, *body->solid, normals,
-        sph::SolidFluidCoupling<2>::Settings{static_cast<sph::Real>(spec.spacing), numerics.sub_cycling});
+        sph::SolidFluidCoupling<2>::Settings{static_cast<sph::Real>(spec.spacing), numerics.sub_cycling,
+                                             static_cast<sph::Real>(numerics.acceleration_relaxation)});
   } catch (const std::invalid_argument& e) {
     throw sph::ParameterError("parameter '" + thickness_parameter + "': " + e.what());
   }

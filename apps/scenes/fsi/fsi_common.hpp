@@ -32,7 +32,7 @@ struct FsiBodySpec {
 /// couples it to the fluid. A body thinner than one fluid spacing is refused as a ParameterError
 /// naming `thickness_parameter`.
 std::unique_ptr<FsiBody> make_fsi_body(sph::ParticleSet<2> particles, const std::vector<sph::Vec<2>>& normals,
-                                       const FsiBodySpec& spec, const FluidSceneNumerics& fluid_numerics,
+                                       const FsiBodySpec& spec,
                                        const FsiSolidNumerics& numerics, sph::WeaklyCompressibleFluid<2>& fluid,
                                        const std::string& thickness_parameter);
 

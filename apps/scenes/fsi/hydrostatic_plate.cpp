@@ -103,7 +103,7 @@ class HydrostaticPlateScene final : public Scene {
     spec.damping_rate = p_.solid_damping;
     spec.gravity = Vec2(0, static_cast<Real>(-g));
     spec.clamped = [W](const Vec2& x) { return x[0] < 0 || x[0] > W; };
-    auto plate = make_fsi_body(std::move(plate_particles), normals, spec, p_.numerics, p_.solid, fluid, "plate_thickness");
+    auto plate = make_fsi_body(std::move(plate_particles), normals, spec, p_.solid, fluid, "plate_thickness");
     std::vector<std::size_t> mid;
     for (std::size_t i = 0; i < plate->particles.n_particles(); ++i)
       if (std::abs(plate->particles.position[i][0] - W / 2) < dps) mid.push_back(i);
