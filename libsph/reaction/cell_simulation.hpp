@@ -6,6 +6,7 @@
 #include <span>
 #include <vector>
 
+#include "libsph/core/sampled_series.hpp"
 #include "libsph/reaction/cell_integrators.hpp"
 #include "libsph/reaction/stimulus.hpp"
 
@@ -70,15 +71,6 @@ inline ActionPotential measure_action_potential(std::span<const double> t, std::
       break;
     }
   return ap;
-}
-
-/// Linear interpolation of a sampled trace at time s (clamped to its ends); t increasing.
-inline double interpolate_trace(std::span<const double> t, std::span<const double> V, double s) {
-  if (s <= t.front()) return V.front();
-  if (s >= t.back()) return V.back();
-  const auto upper = static_cast<std::size_t>(std::upper_bound(t.begin(), t.end(), s) - t.begin());
-  const double w = (s - t[upper - 1]) / (t[upper] - t[upper - 1]);
-  return (1 - w) * V[upper - 1] + w * V[upper];
 }
 
 }  // namespace sph

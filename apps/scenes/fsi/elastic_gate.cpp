@@ -5,19 +5,20 @@
 // the floor; g = 9.8e-3 mm/ms^2. The water pushes the gate open and escapes beneath it. Observer: the
 // gate's free corner on the dry side (395, 0), displacement x(t), y(t) in observers.csv; the report
 // gives the largest |dx| and dy. Antoci et al. published their measured curves as figures only; the
-// reference here is SPHinXsys's test_2d_elastic_gate (v1.0, its default resolution: 2 fluid and 4
+// reference here is SPHinXsys's test_2d_elastic_gate (its default resolution: 2 fluid and 4
 // solid particles across the gate) run to 400 ms on this project's reference machine, its observer
 // displacement sampled every 25 ms (tip_reference.csv in the output; docs/fsi.md).
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <string>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "apps/scenes/fsi/fsi_common.hpp"
 #include "geometry/lattice.hpp"
+#include "libsph/core/sampled_series.hpp"
 #include "libsph/io/atomic_file.hpp"
 
 namespace cardiosph {
@@ -38,14 +39,6 @@ constexpr TipSample kSphinxsysTip[] = {
     {375, -33.29, 9.87},  {400, -32.95, 9.66}};
 constexpr double kSphinxsysMaxDx = 45.13, kSphinxsysMaxDy = 18.81;
 
-/// Linear interpolation of the samples (t_k, y_k) at t (t within their span).
-double interpolate(const std::vector<double>& t, const std::vector<double>& y, double at) {
-  const auto k = static_cast<std::size_t>(std::upper_bound(t.begin(), t.end(), at) - t.begin());
-  if (k == 0) return y.front();
-  if (k == t.size()) return y.back();
-  const double w = (at - t[k - 1]) / (t[k] - t[k - 1]);
-  return (1 - w) * y[k - 1] + w * y[k];
-}
 
 class ElasticGateScene final : public Scene {
  public:
@@ -171,7 +164,7 @@ class ElasticGateScene final : public Scene {
     std::size_t compared = 0;
     for (const auto& ref : kSphinxsysTip) {
       if (ref.t > times.back() + 1e-9) break;
-      const double dx = interpolate(times, dxs, ref.t), dy = interpolate(times, dys, ref.t);
+      const double dx = sph::interpolate_trace(times, dxs, ref.t), dy = sph::interpolate_trace(times, dys, ref.t);
       char line[120];
       std::snprintf(line, sizeof line, "%g,%.2f,%.2f,%.4f,%.4f\n", ref.t, ref.dx, ref.dy, dx, dy);
       text += line;
@@ -186,7 +179,7 @@ class ElasticGateScene final : public Scene {
         "tip_reference.csv";
     report.results["sphinxsys_max_abs_dx"] = kSphinxsysMaxDx;
     report.results["sphinxsys_max_dy"] = kSphinxsysMaxDy;
-    // The largest displacements are compared only once the run has passed SPHinXsys's peak.
+    // The largest displacements are compared only once the run has passed SPHinXsys's peaks (135 and 139 ms).
     if (p_.end_time >= 140) {
       report.errors["tip_max_dx_relative"] = relative_error(max_dx, kSphinxsysMaxDx);
       report.errors["tip_max_dy_relative"] = relative_error(max_dy, kSphinxsysMaxDy);
