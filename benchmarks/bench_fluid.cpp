@@ -1,12 +1,20 @@
 // One acoustic step (pressure force and continuity: the pair loops) and one neighbour rebuild of a
 // weakly-compressible fluid block, in 2D and 3D, at about 1e5 and 1e6 particles, as particle-steps
-// per second of wall time (items_per_second, all threads); run build/benchmarks/bench_fluid.
+// per second of wall time (items_per_second, all threads), with the roofline of the acoustic step
+// (benchmarks/roofline.hpp); run build/benchmarks/bench_fluid.
+//
+// Bytes an acoustic step must move, per particle: in each of its two pair loops (pressure force,
+// continuity) the pair's index, dW/dr and e_ij (the neighbours' packed state is gathered from the
+// caches); per particle the state read and written by the two halves: x, v, a, the prior a and
+// the packed state (v, p, V) as vectors, rho, drho/dt, p, V and m as scalars, each read and written. Flops per pair: about 45 in the force loop (Riemann
+// pressure with the limiter) and 15 in the continuity loop.
 
 #include <cmath>
 #include <cstddef>
 
 #include <benchmark/benchmark.h>
 
+#include "benchmarks/roofline.hpp"
 #include "geometry/lattice.hpp"
 #include "libsph/fluid/weakly_compressible_fluid.hpp"
 
@@ -53,8 +61,11 @@ void acoustic_step(benchmark::State& state) {
     block.fluid.second_half(Real(1e-4));
   }
   state.SetItemsProcessed(state.iterations() * static_cast<long>(block.particles.n_particles()));
-  state.counters["pairs_per_particle"] =
-      double(block.fluid.inner_relation().n_pairs()) / double(block.particles.n_particles());
+  const double pairs = double(block.fluid.inner_relation().n_pairs()) / double(block.particles.n_particles());
+  state.counters["pairs_per_particle"] = pairs;
+  const double per_pair = 2 * (sizeof(sph::Index) + sizeof(Real) + sizeof(sph::Vec<Dim>));
+  const double per_particle = 2 * (5 * sizeof(sph::Vec<Dim>) + 7 * sizeof(Real));
+  bench::set_roofline(state, double(block.particles.n_particles()), pairs * per_pair + per_particle, pairs * 60);
 }
 
 template <int Dim>

@@ -1,5 +1,7 @@
 #include "cardio/electromechanics.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <vector>
 
@@ -43,13 +45,25 @@ void add_electromechanics(sph::TimeStepper& stepper, Monodomain<Dim>& monodomain
   if (!(settings.conduction_update_interval > 0))
     throw std::invalid_argument("electromechanics: the conduction update interval must be positive");
 
+  // The coupling step: the largest whole number K of EP steps that one mechanics sub-step covers
+  // (K = 1 when the mechanics step is the shorter; it then sub-cycles inside the EP step).
+  const Real ep_step = monodomain.time_step();
+  auto coupling_step = [&solid, ep_step] {
+    const Real K = std::floor(solid.stable_time_step() / ep_step * (1 + Real(1e-9)));
+    return std::max(Real(1), K) * ep_step;
+  };
   sph::Stage mechanics{"mechanics", [&solid] { return solid.stable_time_step(); }, {}};
   mechanics.then("mechanics", timers.timed("mechanics", [&solid, &tension](Real t, Real dt) {
     interact(solid, tension, sph::same_particles, t, dt);
     solid.advance(t, dt);
   }));
-  sph::Stage step = monodomain.stage("electromechanics");
-  step.then("active tension", timers.timed("active_tension", sph::coupling(tension, monodomain, sph::same_particles)))
+  sph::Stage step{"electromechanics", coupling_step, {}, ep_step};
+  // The EP steps inside a coupling step: K of them, also when the accumulated time leaves the
+  // coupling step a rounding error longer than K EP steps.
+  sph::Stage electrophysiology = monodomain.stage("electrophysiology");
+  electrophysiology.stable_time_step = [ep_step] { return ep_step * (1 + Real(1e-9)); };
+  step.sub_cycle(std::move(electrophysiology))
+      .then("active tension", timers.timed("active_tension", sph::coupling(tension, monodomain, sph::same_particles)))
       .sub_cycle(std::move(mechanics));
   stepper.add_stage(std::move(step));
 

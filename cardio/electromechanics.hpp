@@ -7,16 +7,22 @@
 //   tension  <- monodomain  the active tension from the potential,
 //   solid    <- tension     the active stress T_a f0 (x) f0,
 //   monodomain <- solid     the conduction tensor pulled back through F,
-// and one stage (libsph/core/time_stepper.hpp), a step [t, t + dt] of the monodomain's splitting
-// step (or shorter, to land on output and event times):
-//   1. electrophysiology: reaction dt/2, diffusion over dt (nested stage at its own stability
-//      limit), reaction dt/2 (cardio/monodomain.hpp);
+// and one stage (libsph/core/time_stepper.hpp), a coupling step [t, t + dt] of K monodomain
+// splitting steps, K the largest whole number of them that fit in the solid's stable step (at least
+// one; shorter to land on output and event times):
+//   1. electrophysiology: K splitting steps, each reaction, diffusion over the step (nested stage at
+//      its own stability limit), reaction (cardio/monodomain.hpp);
 //   2. active tension over [t, t + dt] from the potential before and after step 1
 //      (cardio/active_tension.hpp);
 //   3. mechanics over [t, t + dt], a nested stage at the acoustic step of the solid (re-evaluated
-//      before every sub-step); the sub-step from s to s + ds sees T_a interpolated linearly at its
-//      midpoint s + ds/2, where position-based Verlet evaluates the stress.
-// All three fields are therefore at t + dt together at the end of the step. The conduction update
+//      before every sub-step: one sub-step when K > 1, several when the solid's step is the shorter);
+//      the sub-step from s to s + ds sees T_a interpolated linearly at its midpoint s + ds/2, where
+//      position-based Verlet evaluates the stress.
+// All three fields are therefore at t + dt together at the end of the step. With a physical density
+// the solid's step (about 0.16 ms on the default heart) is shorter than two EP steps and K = 1; mass
+// scaling of the solid (sph::SolidNumerics::mass_scaling) lengthens it, and the mechanics then runs
+// once every K EP steps. The tension's time constant (1/eps >= 12.9 ms) is long against any such
+// coupling step, so advancing it once per coupling step with the mean potential loses little. The conduction update
 // is an event every `conduction_update_interval`, between steps.
 //
 // Conduction on the deforming tissue: the reference-configuration form of the monodomain. With the

@@ -102,6 +102,8 @@ class Monodomain {
   Real latest_activation() const;
   Timings timings() const { return {timers_.seconds("reaction"), timers_.seconds("diffusion")}; }
   std::size_t diffusion_substeps() const { return timers_.calls("diffusion"); }
+  /// Splitting steps taken (two reaction half steps each).
+  std::size_t steps() const { return timers_.calls("reaction") / 2; }
   const Settings& settings() const { return settings_; }
   const sph::ParticleSet<Dim>& particles() const { return particles_; }
   /// The stimulus regions, which may be changed between steps (e.g. a pulse timed by the state).

@@ -74,6 +74,27 @@ TEST(TimeStepper, NestedStageTakesEqualSubStepsInsideEachStep) {
   EXPECT_NEAR(sub_time, 1.0, test::bound(1e-14, 1e-6));
 }
 
+TEST(TimeStepper, StepQuantumKeepsStepsWholeMultiplesUpToEvents) {
+  // A coupling stage of whole EP steps (quantum 0.1) that is stable for 0.35: up to each output at
+  // multiples of 1 it takes steps of 3 quanta and then the 1 quantum left (not ten evened steps of
+  // 0.0833 each), and its nested stage of step 0.1 takes exactly 3 or 1 sub-steps of 0.1.
+  sph::TimeStepper stepper(0, 2);
+  std::vector<Real> steps;
+  std::size_t sub = 0;
+  sph::Stage coupled{"coupled", [] { return Real(0.35); }, {}, Real(0.1)};
+  coupled.then("record", [&](Real, Real dt) { steps.push_back(dt); })
+      .sub_cycle(sph::make_stage("ep", [] { return Real(0.1) * (1 + Real(1e-9)); }, [&](Real, Real dt) {
+        ++sub;
+        EXPECT_NEAR(dt, 0.1, test::bound(1e-12, 1e-6));
+      }));
+  stepper.add_stage(std::move(coupled));
+  stepper.add_periodic_callback(1, [](const sph::StepInfo&) {});
+  stepper.run();
+  ASSERT_EQ(steps.size(), 8u);  // per output interval: 0.3, 0.3, 0.3, 0.1
+  for (std::size_t k = 0; k < steps.size(); ++k) EXPECT_NEAR(steps[k], k % 4 == 3 ? 0.1 : 0.3, test::bound(1e-12, 1e-6));
+  EXPECT_EQ(sub, 20u);
+}
+
 TEST(TimeStepper, NestedStageReevaluatesItsStepBeforeEverySubStep) {
   // The inner stable step halves after its first sub-step: the remaining part of the outer step
   // is then covered in equal sub-steps of the new size, ending exactly at the outer step's end.

@@ -53,9 +53,10 @@ void sequential_for(std::size_t n, Body&& body) {
 /// then the block results are combined in block order.
 template <class T, class Term, class Combine>
 T parallel_reduce(std::size_t n, T identity, Term&& term, Combine&& combine) {
-  constexpr std::size_t block = 4096;
+  // Blocks small enough to balance heavy terms (a particle's whole force sum) over the threads.
+  constexpr std::size_t block = 1024;
   // Up to about a million terms the block results live on the stack (no allocation in a step).
-  constexpr std::size_t stack_blocks = 256;
+  constexpr std::size_t stack_blocks = 1024;
   const std::size_t n_blocks = (n + block - 1) / block;
   std::array<T, stack_blocks> on_stack;
   std::vector<T> on_heap;
@@ -64,11 +65,14 @@ T parallel_reduce(std::size_t n, T identity, Term&& term, Combine&& combine) {
     on_heap.assign(n_blocks, identity);
     partial = on_heap.data();
   }
-  parallel_for(n_blocks, [&](std::size_t b) {
-    T value = identity;
-    const std::size_t end = std::min(n, (b + 1) * block);
-    for (std::size_t i = b * block; i < end; ++i) value = combine(value, term(i));
-    partial[b] = value;
+  // One task per block (grain 1): parallel_for's grain of 256 would put every block in one task.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n_blocks, 1), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t b = range.begin(); b != range.end(); ++b) {
+      T value = identity;
+      const std::size_t end = std::min(n, (b + 1) * block);
+      for (std::size_t i = b * block; i < end; ++i) value = combine(value, term(i));
+      partial[b] = value;
+    }
   });
   T total = identity;
   for (std::size_t b = 0; b < n_blocks; ++b) total = combine(total, partial[b]);

@@ -128,6 +128,10 @@ std::size_t TimeStepper::run() {
   };
   fire_due(start_time_);
 
+  Real quantum = 0;  // the smallest step quantum of the top-level stages
+  for (const auto& stage : stages_)
+    if (stage.step_quantum > 0) quantum = quantum > 0 ? std::min(quantum, stage.step_quantum) : stage.step_quantum;
+
   Real t = start_time_;
   while (t < end_time_) {
     const Real event = next_event_time();
@@ -135,10 +139,17 @@ std::size_t TimeStepper::run() {
     for (const auto& stage : stages_)
       if (stage.stable_time_step) stable = std::min(stable, checked_stable_step(stage, t));
     if (coupling_interval_ > 0) stable = std::min(stable, coupling_interval_);
-    // Even out the steps up to the next event: n = ceil(remaining / stable) equal steps.
+    // Even out the steps up to the next event: n = ceil(remaining / stable) equal steps; or, when the
+    // event lies a whole number of quanta ahead, steps of as many whole quanta as are stable.
     const Real remaining = event - t;
     Real dt = remaining;
-    if (std::isfinite(stable) && remaining > stable) dt = remaining / step_count(remaining, stable);
+    if (std::isfinite(stable) && remaining > stable) {
+      const Real quanta = quantum > 0 ? remaining / quantum : Real(0.5);
+      if (std::abs(quanta - std::round(quanta)) < Real(1e-6))
+        dt = std::max(Real(1), std::floor(stable / quantum * (1 + rounding))) * quantum;
+      else
+        dt = remaining / step_count(remaining, stable);
+    }
     const bool reaches_event = dt >= remaining;
     for (const auto& stage : stages_) stage.run_step(t, dt);
     t = reaches_event ? event : t + dt;

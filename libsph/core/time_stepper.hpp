@@ -16,7 +16,8 @@
 //
 // Step sizes. The macro step of the stepper is
 //   dt = min( stable steps of the top-level stages, coupling_interval, time left to the next event ),
-// evened out before events so that no sliver of a step is left. A nested stage covering [t, t + dt]
+// evened out before events so that no sliver of a step is left (or, for a stage with a step quantum,
+// cut into whole quanta). A nested stage covering [t, t + dt]
 // evaluates its stable step s before every sub-step and takes the next sub-step as
 //   remaining / ceil(remaining / s),
 // so its step follows the state (not fixed once per parent step), the sub-steps left are always
@@ -62,6 +63,10 @@ struct Stage {
   std::string name;
   std::function<Real()> stable_time_step;  ///< largest stable step now; empty: the parent's step
   std::vector<Phase> phases;
+  /// > 0 (top-level stages): the stage's steps are whole multiples of this quantum, e.g. a coupling
+  /// step of whole EP steps. Up to an event that lies a whole number of quanta ahead, the stepper then
+  /// takes steps of floor(stable / quantum) quanta, the last one the rest, instead of evening them out.
+  Real step_quantum = 0;
 
   /// Appends an action over the whole step.
   Stage& then(std::string phase_name, StepAction action);

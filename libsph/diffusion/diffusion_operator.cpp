@@ -55,16 +55,13 @@ constexpr std::array<std::pair<int, int>, n_symmetric<Dim>> symmetric_components
 }  // namespace
 
 template <int Dim>
-std::vector<Mat<Dim>> diffusion_moment_matrices(const InnerRelation<Dim>& relation, std::span<const Real> volume,
-                                                std::span<const Mat<Dim>> diffusion_tensor) {
+std::vector<MomentSystemInverse<Dim>> diffusion_moment_systems(const InnerRelation<Dim>& relation, std::span<const Real> volume) {
   constexpr int m = n_symmetric<Dim>;
   constexpr auto components = symmetric_components<Dim>();
   using System = Eigen::Matrix<Real, m, m>;
   using Vector = Eigen::Matrix<Real, m, 1>;
-  const bool uniform = diffusion_tensor.size() == 1;
-  std::vector<Mat<Dim>> A(relation.n_targets());
+  std::vector<MomentSystemInverse<Dim>> systems(relation.n_targets());
   parallel_for(relation.n_targets(), [&](std::size_t i) {
-    const Mat<Dim>& D_i = uniform ? diffusion_tensor[0] : diffusion_tensor[i];
     // K[cd][ab] = sum_j V_j F_ij r_ij e_a e_b e_c e_d, times 2 for an off-diagonal ab (it appears twice in T : A).
     System K = System::Zero();
     for (std::size_t k = relation.offsets[i]; k < relation.offsets[i + 1]; ++k) {
@@ -76,12 +73,30 @@ std::vector<Mat<Dim>> diffusion_moment_matrices(const InnerRelation<Dim>& relati
     }
     for (int c = 0; c < m; ++c)
       if (components[c].first != components[c].second) K.col(c) *= Real(2);
-    Vector rhs;
-    for (int c = 0; c < m; ++c) rhs[c] = D_i(components[c].first, components[c].second);
     const Eigen::FullPivLU<System> lu(K);
+    auto& system = systems[i];
+    system.valid = lu.rank() == m && lu.rcond() > Real(1e-8);
+    system.inverse = system.valid ? System(lu.inverse()) : System::Zero();
+  });
+  return systems;
+}
+
+template <int Dim>
+std::vector<Mat<Dim>> diffusion_moment_matrices(std::span<const MomentSystemInverse<Dim>> moment_systems,
+                                                std::span<const Mat<Dim>> diffusion_tensor) {
+  constexpr int m = n_symmetric<Dim>;
+  constexpr auto components = symmetric_components<Dim>();
+  using Vector = Eigen::Matrix<Real, m, 1>;
+  const bool uniform = diffusion_tensor.size() == 1;
+  std::vector<Mat<Dim>> A(moment_systems.size());
+  parallel_for(moment_systems.size(), [&](std::size_t i) {
+    const Mat<Dim>& D_i = uniform ? diffusion_tensor[0] : diffusion_tensor[i];
+    const auto& system = moment_systems[i];
     Mat<Dim> A_i;
-    if (lu.rank() == m && lu.rcond() > Real(1e-8)) {
-      const Vector a = lu.solve(rhs);
+    if (system.valid) {
+      Vector rhs;
+      for (int c = 0; c < m; ++c) rhs[c] = D_i(components[c].first, components[c].second);
+      const Vector a = system.inverse * rhs;
       for (int c = 0; c < m; ++c) {
         A_i(components[c].first, components[c].second) = a[c];
         A_i(components[c].second, components[c].first) = a[c];
@@ -95,9 +110,17 @@ std::vector<Mat<Dim>> diffusion_moment_matrices(const InnerRelation<Dim>& relati
 }
 
 template <int Dim>
+std::vector<Mat<Dim>> diffusion_moment_matrices(const InnerRelation<Dim>& relation, std::span<const Real> volume,
+                                                std::span<const Mat<Dim>> diffusion_tensor) {
+  const auto systems = diffusion_moment_systems<Dim>(relation, volume);
+  return diffusion_moment_matrices<Dim>(std::span<const MomentSystemInverse<Dim>>(systems), diffusion_tensor);
+}
+
+template <int Dim>
 std::vector<Real> diffusion_pair_coefficients(const InnerRelation<Dim>& relation, std::span<const Real> volume,
                                               std::span<const Mat<Dim>> diffusion_tensor, DiffusionCorrection correction,
-                                              std::span<const Mat<Dim>> correction_matrix) {
+                                              std::span<const Mat<Dim>> correction_matrix,
+                                              std::span<const MomentSystemInverse<Dim>> moment_systems) {
   const std::size_t n = relation.n_targets();
   const bool uniform = diffusion_tensor.size() == 1;
   if (!uniform && diffusion_tensor.size() != n)
@@ -105,7 +128,10 @@ std::vector<Real> diffusion_pair_coefficients(const InnerRelation<Dim>& relation
   if (correction == DiffusionCorrection::gradient && correction_matrix.size() != n)
     throw std::invalid_argument("diffusion: need one correction matrix per particle");
   std::vector<Mat<Dim>> moment;
-  if (correction == DiffusionCorrection::moment) moment = diffusion_moment_matrices<Dim>(relation, volume, diffusion_tensor);
+  if (correction == DiffusionCorrection::moment) {
+    if (moment_systems.size() == n) moment = diffusion_moment_matrices<Dim>(moment_systems, diffusion_tensor);
+    else moment = diffusion_moment_matrices<Dim>(relation, volume, diffusion_tensor);
+  }
 
   std::vector<Real> coefficient(relation.n_pairs());
   parallel_for(n, [&](std::size_t i) {
@@ -163,10 +189,14 @@ template Mat<2> transversely_isotropic_tensor<2>(Real, Real, const Vec<2>&);
 template Mat<3> transversely_isotropic_tensor<3>(Real, Real, const Vec<3>&);
 template std::vector<Real> diffusion_pair_coefficients<2>(const InnerRelation<2>&, std::span<const Real>,
                                                           std::span<const Mat<2>>, DiffusionCorrection,
-                                                          std::span<const Mat<2>>);
+                                                          std::span<const Mat<2>>, std::span<const MomentSystemInverse<2>>);
 template std::vector<Real> diffusion_pair_coefficients<3>(const InnerRelation<3>&, std::span<const Real>,
                                                           std::span<const Mat<3>>, DiffusionCorrection,
-                                                          std::span<const Mat<3>>);
+                                                          std::span<const Mat<3>>, std::span<const MomentSystemInverse<3>>);
+template std::vector<MomentSystemInverse<2>> diffusion_moment_systems<2>(const InnerRelation<2>&, std::span<const Real>);
+template std::vector<MomentSystemInverse<3>> diffusion_moment_systems<3>(const InnerRelation<3>&, std::span<const Real>);
+template std::vector<Mat<2>> diffusion_moment_matrices<2>(std::span<const MomentSystemInverse<2>>, std::span<const Mat<2>>);
+template std::vector<Mat<3>> diffusion_moment_matrices<3>(std::span<const MomentSystemInverse<3>>, std::span<const Mat<3>>);
 template std::vector<Mat<2>> diffusion_moment_matrices<2>(const InnerRelation<2>&, std::span<const Real>,
                                                           std::span<const Mat<2>>);
 template std::vector<Mat<3>> diffusion_moment_matrices<3>(const InnerRelation<3>&, std::span<const Real>,

@@ -54,17 +54,39 @@ enum class DiffusionCorrection { none, gradient, moment };
 /// The names of the corrections as parameters take them.
 const std::vector<std::pair<std::string, DiffusionCorrection>>& diffusion_correction_names();
 
+/// The geometric part of the moment correction of one particle: the inverse of its moment system
+/// (3x3 in 2D, 6x6 in 3D), which depends on the relation and the volumes only, so that a fixed
+/// relation computes it once and a new tensor D costs one small matrix-vector product per particle.
+/// `valid` is false where the system is singular (the uncorrected bracket is used there).
+template <int Dim>
+struct MomentSystemInverse {
+  static constexpr int size = Dim * (Dim + 1) / 2;
+  Eigen::Matrix<Real, size, size> inverse;
+  bool valid = false;
+};
+
+/// The inverted moment systems of every particle (see above).
+template <int Dim>
+std::vector<MomentSystemInverse<Dim>> diffusion_moment_systems(const InnerRelation<Dim>& relation, std::span<const Real> volume);
+
 /// Pair coefficients a_ij of the operator above, stored along the relation's pairs.
 /// `diffusion_tensor` holds one tensor (uniform) or one per particle; `correction_matrix` (one per
-/// particle) is needed for DiffusionCorrection::gradient only.
+/// particle) is needed for DiffusionCorrection::gradient only; `moment_systems` (one per particle,
+/// from diffusion_moment_systems) may be passed for DiffusionCorrection::moment, else they are
+/// computed here.
 template <int Dim>
 std::vector<Real> diffusion_pair_coefficients(const InnerRelation<Dim>& relation, std::span<const Real> volume,
                                               std::span<const Mat<Dim>> diffusion_tensor, DiffusionCorrection correction,
-                                              std::span<const Mat<Dim>> correction_matrix = {});
+                                              std::span<const Mat<Dim>> correction_matrix = {},
+                                              std::span<const MomentSystemInverse<Dim>> moment_systems = {});
 
 /// The matrices A_i of the moment correction (see above), one per particle.
 template <int Dim>
 std::vector<Mat<Dim>> diffusion_moment_matrices(const InnerRelation<Dim>& relation, std::span<const Real> volume,
+                                                std::span<const Mat<Dim>> diffusion_tensor);
+/// The same from the inverted moment systems.
+template <int Dim>
+std::vector<Mat<Dim>> diffusion_moment_matrices(std::span<const MomentSystemInverse<Dim>> moment_systems,
                                                 std::span<const Mat<Dim>> diffusion_tensor);
 
 /// rate_i = sum_j a_ij (C_j - C_i).

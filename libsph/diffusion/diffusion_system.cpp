@@ -72,8 +72,10 @@ void ScalarDiffusionSystem<Dim>::set_diffusion_tensor(std::vector<Mat<Dim>> diff
 
 template <int Dim>
 void ScalarDiffusionSystem<Dim>::assemble() {
+  if (settings_.numerics.correction == DiffusionCorrection::moment && moment_systems_.empty())
+    moment_systems_ = diffusion_moment_systems<Dim>(relation_, particles_.volume);
   pair_coefficient_ = diffusion_pair_coefficients<Dim>(relation_, particles_.volume, settings_.diffusion_tensor,
-                                                       settings_.numerics.correction, correction_matrix_);
+                                                       settings_.numerics.correction, correction_matrix_, moment_systems_);
   if (settings_.numerics.clip_negative_coefficients)
     parallel_for(pair_coefficient_.size(), [&](std::size_t k) { pair_coefficient_[k] = std::max(pair_coefficient_[k], Real(0)); });
   step_limit_ = diffusion_time_step_limit<Dim>(relation_, pair_coefficient_);

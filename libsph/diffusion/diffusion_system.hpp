@@ -86,6 +86,7 @@ class ScalarDiffusionSystem {
   void check_finite(Real time) const;
 
   std::vector<Mat<Dim>> correction_matrix_;  // gradient correction only
+  std::vector<MomentSystemInverse<Dim>> moment_systems_;  // moment correction only (the relation is fixed)
   std::vector<Real> pair_coefficient_;
   Real step_limit_ = 0;
   std::vector<Real> rate_, predicted_, predicted_rate_;  // scratch, allocated once

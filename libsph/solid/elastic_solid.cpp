@@ -16,6 +16,9 @@ void declare_parameters(Parameters& p, SolidNumerics& n, const std::string& time
   p.add("hourglass_coefficient", n.hourglass_coefficient, "-",
         "alpha of the hourglass penalty force (Ganzenmueller 2015); 0 turns it off", Range::non_negative());
   p.add("acoustic_cfl", n.cfl, "-", "solid time step as a fraction of the acoustic limit", {0, 1, true, false});
+  p.add("mass_scaling", n.mass_scaling, "-",
+        "factor on the solid's inertia (density) for quasi-static runs: the acoustic step grows by its square root; "
+        "1 = physical inertia", Range::closed(1, 1e6));
   p.add("fixed_time_step", n.fixed_time_step, time_unit,
         "fixed solid time step instead of the acoustic one (0: acoustic); no stability guarantee", Range::non_negative());
 }
@@ -34,10 +37,13 @@ ElasticSolid<Dim>::ElasticSolid(ParticleSet<Dim>& particles, const InnerRelation
   check_material<Dim>(settings_.material);
 
   const Real wave_modulus = std::visit([](const auto& m) { return m.wave_modulus(); }, settings_.material);
-  sound_speed_ = std::sqrt(wave_modulus / settings_.density);
+  if (!(settings_.numerics.mass_scaling >= 1 && std::isfinite(settings_.numerics.mass_scaling)))
+    throw std::invalid_argument(body + ": mass scaling must be >= 1");
+  inverse_inertia_ = 1 / (settings_.density * settings_.numerics.mass_scaling);
+  sound_speed_ = std::sqrt(wave_modulus * inverse_inertia_);
   current_sound_speed_ = sound_speed_;
   if (settings_.numerics.stiffness_update_interval < 1) throw std::invalid_argument(body + ": stiffness update interval must be >= 1");
-  hourglass_modulus_ = young_modulus_estimate<Dim>(settings_.material);
+  hourglass_factor_ = settings_.numerics.hourglass_coefficient / 2 * young_modulus_estimate<Dim>(settings_.material);
 
   const std::size_t n = particles_.n_particles();
   reference_position_ = particles_.template register_field<Vec<Dim>>("reference_position", Vec<Dim>::Zero(), false);
@@ -64,8 +70,24 @@ ElasticSolid<Dim>::ElasticSolid(ParticleSet<Dim>& particles, const InnerRelation
     active_tension_ = particles_.template register_field<Real>("active_tension", Real(0));
   }
   compute_correction_matrix<Dim>(relation_, particles_.volume, particles_.field(correction_matrix_));
+  // The reference geometry of every pair, once, compactly (single precision, antisymmetric in i, j
+  // exactly, so that the pair forces still cancel to round-off).
+  const auto& rel = relation_;
+  pair_gradient_.resize(rel.n_pairs());
+  pair_offset_.resize(rel.n_pairs());
+  parallel_for(rel.n_pairs(), [&](std::size_t k) {
+    const Vec<Dim> e = rel.unit_vector[k];
+    const Real r = rel.distance[k];
+    PairGradient& g = pair_gradient_[k];
+    for (int d = 0; d < Dim; ++d) {
+      g.gradient[d] = static_cast<PairReal>(rel.kernel_derivative[k] * e[d]);
+      pair_offset_[k][d] = static_cast<PairReal>(r * e[d]);
+    }
+    g.hourglass_weight = r > 0 ? static_cast<PairReal>(rel.kernel_value[k] / (r * r)) : PairReal(0);
+  });
   previous_position_.resize(n);
   previous_velocity_.resize(n);
+  load_acceleration_.resize(n);
 }
 
 template <int Dim>
@@ -124,16 +146,22 @@ void ElasticSolid<Dim>::compute_deformation_gradient() {
   const auto& V = particles_.volume;
   const auto B = particles_.field(correction_matrix_);
   auto F = particles_.field(deformation_gradient_);
+  parallel_for(particles_.n_particles(), [&](std::size_t i) { F[i] = deformation_gradient_of(i, x, V, B); });
+}
+
+template <int Dim>
+Mat<Dim> ElasticSolid<Dim>::deformation_gradient_of(std::size_t i, std::span<const Vec<Dim>> x, std::span<const Real> V,
+                                                    std::span<const Mat<Dim>> B) const {
+  // F_i = - sum_j V_j x_ij (x) (B_i grad0 W_ij) = - (sum_j V_j x_ij (x) grad0 W_ij) B_i^T
   const auto& rel = relation_;
-  parallel_for(particles_.n_particles(), [&](std::size_t i) {
-    // F_i = - sum_j V_j x_ij (x) (B_i grad W_ij) = - (sum_j V_j dW_ij x_ij (x) e_ij) B_i^T
-    Mat<Dim> moment = Mat<Dim>::Zero();
-    for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
-      const Index j = rel.neighbour[k];
-      moment.noalias() += (V[j] * rel.kernel_derivative[k]) * (x[i] - x[j]) * rel.unit_vector[k].transpose();
-    }
-    F[i].noalias() = -moment * B[i].transpose();
-  });
+  const Vec<Dim> x_i = x[i];
+  Mat<Dim> moment = Mat<Dim>::Zero();
+  for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
+    const Index j = rel.neighbour[k];
+    const Vec<Dim> w = V[j] * pair_gradient_[k].vector().template cast<Real>();
+    moment.noalias() += (x_i - x[j]) * w.transpose();
+  }
+  return -moment * B[i].transpose();
 }
 
 template <int Dim>
@@ -146,28 +174,40 @@ std::size_t ElasticSolid<Dim>::first_invalid_deformation() const {
 }
 
 template <int Dim>
-void ElasticSolid<Dim>::compute_stress() {
-  const auto F = particles_.field(deformation_gradient_);
+std::size_t ElasticSolid<Dim>::deformation_and_stress() {
+  // One pass over the particles: F_i from its pair sum, then, if F_i is valid, P_i B0_i from the
+  // law (only particle i's stress needs F_i). Returns the first particle with an invalid F (or n).
+  const auto& x = particles_.position;
+  const auto& V = particles_.volume;
   const auto B = particles_.field(correction_matrix_);
+  auto F = particles_.field(deformation_gradient_);
   auto PB = particles_.field(stress_correction_);
-  std::visit(
+  const std::size_t n = particles_.n_particles();
+  return std::visit(
       [&](const auto& law) {
         using Law = std::decay_t<decltype(law)>;
-        if constexpr (Law::anisotropic) {
-          const auto f = particles_.field(fiber_);
-          const auto s = particles_.field(sheet_);
-          if (active_tension_.valid()) {
-            const auto T = particles_.field(active_tension_);
-            parallel_for(F.size(), [&](std::size_t i) {
-              PB[i].noalias() = F[i] * (law.second_piola(F[i], f[i], s[i]) + T[i] * (f[i] * f[i].transpose())) * B[i];
-            });
-          } else {
-            parallel_for(F.size(), [&](std::size_t i) { PB[i].noalias() = F[i] * law.second_piola(F[i], f[i], s[i]) * B[i]; });
+        const auto f = anisotropic_field(fiber_);
+        const auto s = anisotropic_field(sheet_);
+        const std::span<const Real> T =
+            active_tension_.valid() ? std::span<const Real>(particles_.field(active_tension_)) : std::span<const Real>();
+        return first_index_where(n, [&](std::size_t i) {
+          const Mat<Dim> Fi = deformation_gradient_of(i, x, V, B);
+          F[i] = Fi;
+          const Real J = Fi.determinant();
+          if (!(J > 0) || !Fi.allFinite()) {
+            PB[i].setZero();
+            return true;
           }
-        } else {
-          const Vec<Dim> none = Vec<Dim>::Zero();
-          parallel_for(F.size(), [&](std::size_t i) { PB[i].noalias() = F[i] * law.second_piola(F[i], none, none) * B[i]; });
-        }
+          if constexpr (Law::anisotropic) {
+            Mat<Dim> S = law.second_piola(Fi, f[i], s[i]);
+            if (!T.empty()) S.noalias() += T[i] * (f[i] * f[i].transpose());
+            PB[i].noalias() = Fi * S * B[i];
+          } else {
+            const Vec<Dim> none = Vec<Dim>::Zero();
+            PB[i].noalias() = Fi * law.second_piola(Fi, none, none) * B[i];
+          }
+          return false;
+        });
       },
       settings_.material);
 }
@@ -195,57 +235,103 @@ void ElasticSolid<Dim>::update_current_sound_speed() {
         });
       },
       settings_.material);
-  current_sound_speed_ = std::max(sound_speed_, std::sqrt(largest / settings_.density));
+  current_sound_speed_ = std::max(sound_speed_, std::sqrt(largest * inverse_inertia_));
 }
 
 template <int Dim>
-void ElasticSolid<Dim>::compute_acceleration(Real time) {
-  const auto& x = particles_.position;
+template <bool Hourglass>
+Vec<Dim> ElasticSolid<Dim>::internal_force_of(std::size_t i, std::span<const Vec<Dim>> x, std::span<const Real> V,
+                                              std::span<const Mat<Dim>> F, std::span<const Mat<Dim>> PB) const {
+  // sum_j V_j (P_i B_i + P_j B_j) grad0 W_ij + alpha E / 2 sum_j V_j W_ij / |X_ij|^2 (delta_ij^i + delta_ij^j) x_ij / |x_ij|
+  // (divided by V_i: the force per unit reference volume), with the P_i B_i term taken out of the loop.
+  const auto& rel = relation_;
+  const Vec<Dim> x_i = x[i];
+  const Mat<Dim> F_i = F[i];
+  Vec<Dim> weighted_sum = Vec<Dim>::Zero(), stress_force = Vec<Dim>::Zero(), hourglass_force = Vec<Dim>::Zero();
+  for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
+    const Index j = rel.neighbour[k];
+    const PairGradient& g = pair_gradient_[k];
+    const Vec<Dim> w = V[j] * g.vector().template cast<Real>();  // V_j grad0 W_ij
+    weighted_sum += w;
+    stress_force.noalias() += PB[j] * w;
+    if constexpr (Hourglass) {
+      const Vec<Dim> x_ij = x_i - x[j];
+      const Vec<Dim> X_ij = pair_offset_[k].template cast<Real>();
+      const Real delta_r = ((F_i + F[j]) * X_ij - 2 * x_ij).dot(x_ij);  // (delta_i + delta_j) |x_ij|
+      hourglass_force += (V[j] * Real(g.hourglass_weight) * delta_r / x_ij.squaredNorm()) * x_ij;
+    }
+  }
+  stress_force.noalias() += PB[i] * weighted_sum;
+  if constexpr (Hourglass) return stress_force + hourglass_factor_ * hourglass_force;
+  return stress_force;
+}
+
+template <int Dim>
+void ElasticSolid<Dim>::compute_load_accelerations(Real time) {
+  // Pressure, force and traction loads at the current positions and F, as accelerations.
+  if (pressure_loads_.empty() && force_loads_.empty() && traction_loads_.empty()) return;
   const auto& V = particles_.volume;
   const auto F = particles_.field(deformation_gradient_);
-  const auto PB = particles_.field(stress_correction_);
-  auto a = particles_.field(acceleration_);
-  const auto& rel = relation_;
-  const Real inverse_density = 1 / settings_.density;
-  const Real hourglass_factor = settings_.numerics.hourglass_coefficient / 2 * hourglass_modulus_;
-  const Vec<Dim> g = settings_.body_force;
-  parallel_for(particles_.n_particles(), [&](std::size_t i) {
-    Vec<Dim> stress_force = Vec<Dim>::Zero(), hourglass_force = Vec<Dim>::Zero();
-    for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
-      const Index j = rel.neighbour[k];
-      const Vec<Dim>& e0 = rel.unit_vector[k];
-      stress_force.noalias() += (V[j] * rel.kernel_derivative[k]) * ((PB[i] + PB[j]) * e0);
-      if (hourglass_factor > 0) {
-        const Vec<Dim> X_ij = rel.distance[k] * e0;
-        const Vec<Dim> x_ij = x[i] - x[j];
-        const Real r = x_ij.norm();
-        const Real delta = ((F[i] + F[j]) * X_ij - 2 * x_ij).dot(x_ij) / r;
-        hourglass_force += (V[j] * rel.kernel_value[k] / (rel.distance[k] * rel.distance[k]) * delta / r) * x_ij;
-      }
-    }
-    a[i] = inverse_density * (stress_force + hourglass_factor * hourglass_force) + g;
-  });
+  std::fill(load_acceleration_.begin(), load_acceleration_.end(), Vec<Dim>::Zero());
   for (const auto& load : pressure_loads_) {
     const Real p = load.pressure(time);
     for (std::size_t k = 0; k < load.particles.size(); ++k) {
       const Index i = load.particles[k];
       // Nanson: n da = J F^-T N dA.
       const Mat<Dim> cofactor = F[i].determinant() * F[i].inverse().transpose();
-      a[i] -= p * (cofactor * load.area_normal[k]) * (inverse_density / V[i]);
+      load_acceleration_[i] -= p * (cofactor * load.area_normal[k]) * (inverse_inertia_ / V[i]);
     }
   }
   if (!force_loads_.empty()) {
     std::fill(load_force_.begin(), load_force_.end(), Vec<Dim>::Zero());
     for (const auto& load : force_loads_) load(time, load_force_);
-    parallel_for(load_force_.size(), [&](std::size_t i) { a[i] += load_force_[i] * (inverse_density / V[i]); });
+    parallel_for(load_force_.size(), [&](std::size_t i) { load_acceleration_[i] += load_force_[i] * (inverse_inertia_ / V[i]); });
   }
   for (const auto& load : traction_loads_) {
     const Vec<Dim> t = load.traction(time);
     for (std::size_t k = 0; k < load.particles.size(); ++k) {
       const Index i = load.particles[k];
-      a[i] += t * (load.area[k] * inverse_density / V[i]);
+      load_acceleration_[i] += t * (load.area[k] * inverse_inertia_ / V[i]);
     }
   }
+}
+
+template <int Dim>
+template <class Finish>
+typename ElasticSolid<Dim>::StepCheck ElasticSolid<Dim>::accelerations(Real time, Finish&& finish) {
+  // a_i = (internal force + loads) / (rho0 s) + g / s for every particle, handed to finish(i, a_i),
+  // which returns whether particle i's state is finite; the largest |a| and the first non-finite
+  // particle come back (a reduction in fixed blocks: the same for any thread count).
+  compute_load_accelerations(time);
+  const auto& x = particles_.position;
+  const auto& V = particles_.volume;
+  const auto F = particles_.field(deformation_gradient_);
+  const auto PB = particles_.field(stress_correction_);
+  const bool loads = !(pressure_loads_.empty() && force_loads_.empty() && traction_loads_.empty());
+  const Vec<Dim> g = settings_.body_force * (1 / settings_.numerics.mass_scaling);
+  const std::size_t n = particles_.n_particles();
+  auto run = [&]<bool Hourglass>() {
+    return parallel_reduce(
+        n, StepCheck{0, n},
+        [&](std::size_t i) {
+          Vec<Dim> a_i = inverse_inertia_ * internal_force_of<Hourglass>(i, x, V, F, PB) + g;
+          if (loads) a_i += load_acceleration_[i];
+          const bool finite = finish(i, a_i);
+          return StepCheck{finite ? a_i.norm() : Real(0), finite ? n : i};
+        },
+        [](const StepCheck& p, const StepCheck& q) { return StepCheck{std::max(p.max_acceleration, q.max_acceleration), std::min(p.first_bad, q.first_bad)}; });
+  };
+  if (hourglass_factor_ > 0) return run.template operator()<true>();
+  return run.template operator()<false>();
+}
+
+template <int Dim>
+void ElasticSolid<Dim>::compute_acceleration(Real time) {
+  auto a = particles_.field(acceleration_);
+  accelerations(time, [&](std::size_t i, const Vec<Dim>& a_i) {
+    a[i] = a_i;
+    return true;
+  });
 }
 
 template <int Dim>
@@ -285,7 +371,7 @@ template <int Dim>
 void ElasticSolid<Dim>::advance(Real time, Real dt) {
   auto& x = particles_.position;
   auto v = particles_.field(velocity_);
-  const auto a = particles_.field(acceleration_);
+  auto a = particles_.field(acceleration_);
   const std::size_t n = particles_.n_particles();
   const Real half = dt / 2;
   parallel_for(n, [&](std::size_t i) {
@@ -295,24 +381,27 @@ void ElasticSolid<Dim>::advance(Real time, Real dt) {
   });
   apply_position_constraints(time + half);
 
-  compute_deformation_gradient();
-  if (const std::size_t bad = first_invalid_deformation(); bad < n) {
+  // Two passes over the pairs: F and the stress, then the forces with the velocity update.
+  if (const std::size_t bad = deformation_and_stress(); bad < n) {
     const Real J = particles_.field(deformation_gradient_)[bad].determinant();
     fail(bad, time + half, "deformation gradient", std::isfinite(J) ? "has J = " + std::to_string(J) + " <= 0 (inverted)" : "is not finite");
   }
-  compute_stress();
   if (steps_++ % static_cast<std::size_t>(settings_.numerics.stiffness_update_interval) == 0) update_current_sound_speed();
-  compute_acceleration(time + half);
 
   const Real damping = 1 / (1 + settings_.damping_rate * dt);
-  parallel_for(n, [&](std::size_t i) { v[i] = (v[i] + dt * a[i]) * damping; });
+  const StepCheck check = accelerations(time + half, [&](std::size_t i, const Vec<Dim>& a_i) {
+    a[i] = a_i;
+    v[i] = (v[i] + dt * a_i) * damping;
+    return a_i.allFinite() && v[i].allFinite();
+  });
+  if (check.first_bad < n) {
+    const std::size_t bad = check.first_bad;
+    fail(bad, time + dt, a[bad].allFinite() ? "velocity" : "acceleration", "is not finite");
+  }
   apply_velocity_constraints(time + dt);
   parallel_for(n, [&](std::size_t i) { x[i] += half * v[i]; });
   apply_position_constraints(time + dt);
-
-  if (const std::size_t bad = first_index_where(n, [&](std::size_t i) { return !a[i].allFinite() || !v[i].allFinite(); }); bad < n)
-    fail(bad, time + dt, a[bad].allFinite() ? "velocity" : "acceleration", "is not finite");
-  max_acceleration_ = parallel_max(n, Real(0), [&](std::size_t i) { return a[i].norm(); });
+  max_acceleration_ = check.max_acceleration;
 }
 
 template <int Dim>
@@ -380,7 +469,7 @@ typename ElasticSolid<Dim>::Energies ElasticSolid<Dim>::energies() {
   const auto v = particles_.field(velocity_);
   const auto& V = particles_.volume;
   Energies e;
-  e.kinetic = parallel_sum(v.size(), 0.0, [&](std::size_t i) { return 0.5 * settings_.density * V[i] * v[i].squaredNorm(); });
+  e.kinetic = parallel_sum(v.size(), 0.0, [&](std::size_t i) { return 0.5 / inverse_inertia_ * V[i] * v[i].squaredNorm(); });
   std::visit(
       [&](const auto& law) {
         using Law = std::decay_t<decltype(law)>;
@@ -409,14 +498,13 @@ typename ElasticSolid<Dim>::Residual ElasticSolid<Dim>::equilibrium_residual(Rea
     for (const Index i : set) constrained[i] = 1;
   for (const auto& motion : prescribed_)
     for (const Index i : motion.particles) constrained[i] = 1;
-  compute_deformation_gradient();
-  compute_stress();
+  deformation_and_stress();
   compute_acceleration(time);
   const auto a = particles_.field(acceleration_);
   const auto& V = particles_.volume;
   Residual r;
   r.net = std::sqrt(parallel_sum(n, 0.0, [&](std::size_t i) {
-    return constrained[i] ? 0.0 : double((settings_.density * V[i] * a[i]).squaredNorm());
+    return constrained[i] ? 0.0 : double((V[i] / inverse_inertia_ * a[i]).squaredNorm());
   }));
   if (active_tension_.valid()) {
     // The divergence of the active stress alone: sum_j V_i V_j (Pa_i B_i + Pa_j B_j) grad W_ij.

@@ -17,8 +17,15 @@
 //
 // Time integration: position-based Verlet (Zhang, Rezavand & Hu 2021, JCP 429:110028, sec. 3.3):
 //   x += dt/2 v;  F(x), P(F), a;  v = (v + dt a) / (1 + c dt);  x += dt/2 v.
-// The damping is implicit in v, so it is stable for any rate. Stable step (acoustic, sec. 3.3 there):
-//   dt = cfl min( h / (c + max|v|), sqrt(h / max|a|) ),  c = sqrt(M / rho0),
+// The damping is implicit in v, so it is stable for any rate. A step is two passes over the pairs:
+// F_i and, at once, P_i B0_i (only particle i's stress needs F_i), then the forces with the velocity
+// update; the term P_i B0_i sum_j V_j grad0 W_ij of the momentum sum is taken out of the pair loop.
+// Mass scaling (SolidNumerics::mass_scaling = s >= 1, quasi-static problems): the inertia is rho0 s,
+//   rho0 s dv_i/dt = (forces above, with rho0 g) - rho0 s c v,
+// which leaves every equilibrium unchanged and lets the acoustic step grow by sqrt(s); the kinetic
+// energy is that of the scaled inertia, so its ratio to the strain energy measures what the
+// scaling costs. Stable step (acoustic, sec. 3.3 there):
+//   dt = cfl min( h / (c + max|v|), sqrt(h / max|a|) ),  c = sqrt(M / (rho0 s)),
 // with M the larger of the small-strain P-wave modulus of the law and the largest current tangent
 // modulus over the particles, M_i = max_e (dP/dF at F_i in the direction e (x) e) : (e (x) e) over the
 // axes e = x, y, z and the fibre, by finite differences every `stiffness_update_interval` steps: the
@@ -60,9 +67,12 @@ struct SolidNumerics {
   Real cfl = Real(0.6);                    ///< fraction of the acoustic step, in (0, 1]
   Real fixed_time_step = 0;                ///< > 0 replaces the stable step (no stability guarantee)
   int stiffness_update_interval = 10;      ///< steps between updates of the current tangent modulus
+  /// s >= 1: the inertia is rho0 s (loads and body force keep their physical size), for quasi-static
+  /// problems where inertia only slows the approach to equilibrium; the acoustic step grows by sqrt(s).
+  Real mass_scaling = 1;
 };
 
-/// Declares hourglass_coefficient, acoustic_cfl and fixed_time_step [time_unit].
+/// Declares hourglass_coefficient, acoustic_cfl, mass_scaling and fixed_time_step [time_unit].
 void declare_parameters(Parameters& p, SolidNumerics& numerics, const std::string& time_unit);
 
 template <int Dim>
@@ -165,21 +175,54 @@ class ElasticSolid {
     std::function<Vec<Dim>(Real)> traction;
   };
 
+  /// The largest |a| and the first particle with a non-finite state (or n) of a force pass.
+  struct StepCheck {
+    Real max_acceleration = 0;
+    std::size_t first_bad = 0;
+  };
+
   void check_indices(const std::vector<Index>& particles, const char* what) const;
   void compute_deformation_gradient();
+  Mat<Dim> deformation_gradient_of(std::size_t i, std::span<const Vec<Dim>> x, std::span<const Real> V,
+                                   std::span<const Mat<Dim>> B) const;
   /// First particle with a non-finite F or J <= 0, or n.
   std::size_t first_invalid_deformation() const;
-  void compute_stress();
+  /// F and the stress P B0 of every particle in one pass; the first particle with an invalid F, or n.
+  std::size_t deformation_and_stress();
+  std::span<const Vec<Dim>> anisotropic_field(FieldHandle<Vec<Dim>> handle) const {
+    return handle.valid() ? std::span<const Vec<Dim>>(particles_.field(handle)) : std::span<const Vec<Dim>>();
+  }
   void update_current_sound_speed();
+  template <bool Hourglass>
+  Vec<Dim> internal_force_of(std::size_t i, std::span<const Vec<Dim>> x, std::span<const Real> V,
+                             std::span<const Mat<Dim>> F, std::span<const Mat<Dim>> PB) const;
+  void compute_load_accelerations(Real time);
+  template <class Finish>
+  StepCheck accelerations(Real time, Finish&& finish);
   void compute_acceleration(Real time);
   void apply_position_constraints(Real time);
   void apply_velocity_constraints(Real time);
   [[noreturn]] void fail(std::size_t particle, Real time, const std::string& quantity, const std::string& problem);
 
+  // The reference geometry of each pair of the relation (same order), in single precision, without
+  // the neighbour's volume (so that the pair terms stay exactly antisymmetric): grad0 W_ij =
+  // dW/dr(r0) e_ij, the hourglass weight W_ij / r0^2 and X_ij = r0 e_ij. 28 bytes a pair, read in
+  // place of the relation's 52 bytes of cached kernel data.
+  using PairReal = float;
+  struct PairGradient {
+    PairReal gradient[Dim];
+    PairReal hourglass_weight;
+    Eigen::Map<const Eigen::Matrix<PairReal, Dim, 1>> vector() const { return Eigen::Map<const Eigen::Matrix<PairReal, Dim, 1>>(gradient); }
+  };
+
   ParticleSet<Dim>& particles_;
   const InnerRelation<Dim>& relation_;
   Settings settings_;
-  Real sound_speed_ = 0, current_sound_speed_ = 0, hourglass_modulus_ = 0;
+  std::vector<PairGradient> pair_gradient_;
+  std::vector<Eigen::Matrix<PairReal, Dim, 1>> pair_offset_;
+  Real sound_speed_ = 0, current_sound_speed_ = 0;
+  Real hourglass_factor_ = 0;  // alpha E / 2
+  Real inverse_inertia_ = 1;   // 1 / (rho0 s)
   std::size_t steps_ = 0;
   FieldHandle<Vec<Dim>> reference_position_, velocity_, acceleration_, displacement_, fiber_, sheet_;
   FieldHandle<Mat<Dim>> deformation_gradient_, correction_matrix_, stress_correction_;
@@ -191,7 +234,8 @@ class ElasticSolid {
   std::vector<PressureLoad> pressure_loads_;
   std::vector<TractionLoad> traction_loads_;
   std::vector<ForceLoad> force_loads_;
-  std::vector<Vec<Dim>> load_force_;  // scratch of the force loads
+  std::vector<Vec<Dim>> load_force_;         // scratch of the force loads
+  std::vector<Vec<Dim>> load_acceleration_;  // of all loads, per particle
 
   Real max_acceleration_ = 0;
   std::vector<Vec<Dim>> previous_position_, previous_velocity_;  // the last good state

@@ -260,6 +260,9 @@ class HeartRecorder {
     r.results["peak_kinetic_energy"] = peak_kinetic_;
     r.results["peak_displacement_mm"] = peak_displacement_;
     r.results["peak_strain_energy"] = peak_strain_;
+    // What the inertia (scaled by mass_scaling) costs a quasi-static beat: peak kinetic over peak
+    // strain energy.
+    r.results["kinetic_to_strain_energy_ratio"] = peak_strain_ > 0 ? peak_kinetic_ / peak_strain_ : 0.0;
     r.results["end_of_beat"] = end_of_beat_;
   }
 
@@ -445,6 +448,7 @@ void HeartScene::run(RunContext& ctx) {
   r.results["mechanics_substeps"] = mechanics_substeps;
   r.results["conduction_updates"] = timers.calls("conduction_update");
   r.results["diffusion_substeps"] = heart.monodomain.diffusion_substeps();
+  r.results["ep_steps"] = heart.monodomain.steps();
   if (mechanics_substeps > 0)
     r.results["mechanics_microseconds_per_particle_step"] =
         1e6 * timers.seconds("mechanics") / (double(mechanics_substeps) * double(heart.n()));
