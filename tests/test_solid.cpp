@@ -210,6 +210,41 @@ TEST(ElasticSolid, InversionIsDetectedAndTheLastGoodStateKept) {
   for (std::size_t i = 0; i < before.size(); ++i) EXPECT_EQ(block.body.position[i], before[i]);
 }
 
+// Mass scaling s multiplies the inertia only: the acoustic step grows by sqrt(s) and the equilibrium
+// under a load is the same (a block clamped at its base, sagging under its weight, damped to rest).
+TEST(ElasticSolid, MassScalingLengthensTheStepAndKeepsTheEquilibrium) {
+  auto run = [](Real mass_scaling, Real& step) {
+    auto block = make_block(6, false);
+    auto settings = neo_hookean_settings();
+    settings.numerics.mass_scaling = mass_scaling;
+    settings.body_force = Vec3(0, 0, -50);
+    settings.damping_rate = 40 / std::sqrt(mass_scaling);  // the same damping ratio of the slowest mode
+    sph::ElasticSolid<3> solid(block.body, block.relation, settings);
+    std::vector<sph::Index> base;
+    for (std::size_t i = 0; i < block.body.n_particles(); ++i)
+      if (block.body.position[i][2] < block.dp) base.push_back(sph::Index(i));
+    solid.clamp(base);
+    step = solid.stable_time_step();
+    Real t = 0;
+    while (t < 4 * std::sqrt(mass_scaling)) {
+      const Real dt = solid.stable_time_step();
+      solid.advance(t, dt);
+      t += dt;
+    }
+    double sag = 0;
+    const auto X = block.body.field(solid.reference_position_field());
+    for (std::size_t i = 0; i < X.size(); ++i) sag = std::min(sag, double(block.body.position[i][2] - X[i][2]));
+    return sag;
+  };
+  Real step_1 = 0, step_16 = 0;
+  const double sag_1 = run(1, step_1), sag_16 = run(16, step_16);
+  std::printf("acoustic step ratio %.6f (sqrt 16 = 4); largest sag %.6e (s = 1), %.6e (s = 16)\n", double(step_16 / step_1),
+              sag_1, sag_16);
+  EXPECT_NEAR(step_16 / step_1, 4, test::bound(1e-12, 1e-5));
+  EXPECT_LT(sag_1, 0);
+  EXPECT_LT(std::abs(sag_16 - sag_1), 1e-3 * std::abs(sag_1));
+}
+
 TEST(ElasticSolid, RejectsBadSettings) {
   auto block = make_block(4, false);
   auto settings = neo_hookean_settings();

@@ -5,7 +5,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "libsph/core/correction_matrix.hpp"
 #include "libsph/core/numerical_failure.hpp"
 #include "libsph/core/parallel.hpp"
 #include "libsph/io/parameters.hpp"
@@ -69,7 +68,6 @@ ElasticSolid<Dim>::ElasticSolid(ParticleSet<Dim>& particles, const InnerRelation
     if (!anisotropic) throw std::invalid_argument(body + ": active stress needs a law with fibre directions");
     active_tension_ = particles_.template register_field<Real>("active_tension", Real(0));
   }
-  compute_correction_matrix<Dim>(relation_, particles_.volume, particles_.field(correction_matrix_));
   // The reference geometry of every pair, once, compactly (single precision, antisymmetric in i, j
   // exactly, so that the pair forces still cancel to round-off).
   const auto& rel = relation_;
@@ -85,6 +83,20 @@ ElasticSolid<Dim>::ElasticSolid(ParticleSet<Dim>& particles, const InnerRelation
     }
     g.hourglass_weight = r > 0 ? static_cast<PairReal>(rel.kernel_value[k] / (r * r)) : PairReal(0);
   });
+  // B0_i from the stored gradients, B0_i = M_i^-T with M_i = - sum_j V_j X_ij (x) grad0 W_ij
+  // (libsph/core/correction_matrix.hpp; M_i is symmetric up to the rounding of the stored
+  // gradients, and this form keeps F exact for linear motion to round-off in double precision).
+  {
+    const auto X = particles_.field(reference_position_);
+    const auto& V = particles_.volume;
+    auto B = particles_.field(correction_matrix_);
+    parallel_for(n, [&](std::size_t i) {
+      Mat<Dim> moment = Mat<Dim>::Zero();
+      for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k)
+        moment.noalias() -= (V[rel.neighbour[k]] * (X[i] - X[rel.neighbour[k]])) * pair_gradient_[k].vector().template cast<Real>().transpose();
+      B[i] = moment.determinant() > Real(1e-6) ? Mat<Dim>(moment.transpose().inverse()) : Mat<Dim>::Identity();
+    });
+  }
   previous_position_.resize(n);
   previous_velocity_.resize(n);
   load_acceleration_.resize(n);
@@ -520,7 +532,7 @@ typename ElasticSolid<Dim>::Residual ElasticSolid<Dim>::equilibrium_residual(Rea
       Vec<Dim> force = Vec<Dim>::Zero();
       for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
         const Index j = rel.neighbour[k];
-        force.noalias() += (V[i] * V[j] * rel.kernel_derivative[k]) * ((PB[i] + PB[j]) * rel.unit_vector[k]);
+        force.noalias() += (V[i] * V[j]) * ((PB[i] + PB[j]) * pair_gradient_[k].vector().template cast<Real>());
       }
       return double(force.squaredNorm());
     }));
