@@ -1,10 +1,19 @@
 // One monodomain step (cells over dt/2, diffusion sub-steps over dt, cells over dt/2) on a 3D
 // lattice of about 1e5 particles (46^3), for Aliev-Panfilov and ten Tusscher-Panfilov 2006 with the
 // reaction-by-reaction QSS scheme, D = 0.1 mm^2/ms along x and 0.01 across, dp = 0.2 mm,
-// dt = 0.05 ms. Reports particle-steps per second ("items_per_second") and the share of the
-// reaction in the step.
+// dt = 0.05 ms. Reports particle-steps per second ("items_per_second"), the share of the
+// reaction in the step and the roofline (benchmarks/roofline.hpp).
+//
+// Bytes a step must move, per particle: the cell state read and written in each reaction half
+// step (n_states values), V stored before the step and read for the activation time; per diffusion
+// sub-step the pair's index and coefficient, and V and its rate read and written. Flops: the
+// diffusion's 3 per pair only (the reaction is dominated by exponentials, not counted).
 #include <benchmark/benchmark.h>
 
+#include <type_traits>
+#include <variant>
+
+#include "benchmarks/roofline.hpp"
 #include "cardio/monodomain.hpp"
 #include "geometry/lattice.hpp"
 #include "libsph/core/parallel.hpp"
@@ -41,9 +50,16 @@ void monodomain_step(benchmark::State& state) {
   state.counters["diffusion_substeps"] = static_cast<double>(monodomain.diffusion_substeps()) / static_cast<double>(state.iterations());
   state.counters["field_bytes_per_particle"] = static_cast<double>(body.bytes_per_particle());
   state.counters["threads"] = static_cast<double>(sph::active_thread_count());
+  const double states = static_cast<double>(std::visit([](const auto& m) { return std::decay_t<decltype(m)>::n_states; },
+                                                       settings.cell_model));
+  const double substeps = static_cast<double>(monodomain.diffusion_substeps()) / static_cast<double>(state.iterations());
+  const double pairs = static_cast<double>(relation.n_pairs()) / static_cast<double>(body.n_particles());
+  const double real = sizeof(Real);
+  const double bytes = 2 * 2 * states * real + 3 * real + substeps * (pairs * (sizeof(sph::Index) + real) + 4 * real);
+  bench::set_roofline(state, static_cast<double>(body.n_particles()), bytes, substeps * pairs * 3);
 }
 // Model index into sph::cell_model_names: 1 = Aliev-Panfilov, 2 = ten Tusscher-Panfilov 2006.
-BENCHMARK(monodomain_step)->Args({46, 1})->Args({46, 2})->Unit(benchmark::kMillisecond);
+BENCHMARK(monodomain_step)->Args({46, 1})->Args({46, 2})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 
