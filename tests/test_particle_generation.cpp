@@ -101,7 +101,7 @@ TEST(ParticleGeneration, SphereVolumeAndConfinement) {
   std::cout << "[ measured ] sphere r = 1, dp = 0.1: " << body.size() << " particles, N dp^3 / V = "
             << body.size() * 1e-3 / body.shape_volume << ", volume error " << body.volume_relative_error
             << ", spread " << body.density_spread << ", V/dp^3 in [" << body.volume_min_ratio << ", "
-            << body.volume_max_ratio << "], nearest neighbour / dp in [" << body.spacing_min_ratio << " (bound 0.8) << ", "
+            << body.volume_max_ratio << "], nearest neighbour / dp in [" << body.spacing_min_ratio << " (bound 0.8), "
             << body.spacing_max_ratio << "], mean " << body.spacing_mean_ratio << ", residual " << body.residual_initial
             << " -> " << body.residual_final << " in " << body.relaxation_steps_done << " steps\n";
   // Every particle at least 0.1 dp inside, up to the level set's interpolation error (~dp^2 / 8R).
