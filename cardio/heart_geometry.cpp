@@ -21,7 +21,7 @@ using geometry::Vec3;
 using Clock = std::chrono::steady_clock;
 
 // Version of the stage: bump when the generation, labels or fibres change, so old caches are not reused.
-constexpr const char* stage_version = "heart-geometry-1";
+constexpr const char* stage_version = "heart-geometry-2";
 constexpr char magic[8] = {'C', 'S', 'P', 'H', 'G', 'E', 'O', '1'};
 
 std::string read_bytes(const fs::path& path, const std::string& what) {
@@ -91,7 +91,9 @@ nlohmann::json statistics_json(const HeartGeometry& g) {
           {"density_spread", b.density_spread},
           {"volume_ratio", {b.volume_min_ratio, b.volume_max_ratio}},
           {"residual", {b.residual_initial, b.residual_final}},
+          {"spacing_ratio", {b.spacing_min_ratio, b.spacing_mean_ratio, b.spacing_max_ratio, b.spacing_spread}},
           {"relaxation_steps", b.relaxation_steps_done},
+          {"neighbour_builds", b.neighbour_builds},
           {"seconds", {b.level_set_seconds, b.lattice_seconds, b.relaxation_seconds, b.volume_seconds}},
           {"mesh", {c.vertices, c.faces, c.components, c.volume}},
           {"label_method", g.label_method},
@@ -152,7 +154,12 @@ bool load(const fs::path& file, const nlohmann::json& settings, HeartGeometry& g
     b.volume_max_ratio = s.at("volume_ratio")[1];
     b.residual_initial = s.at("residual")[0];
     b.residual_final = s.at("residual")[1];
+    b.spacing_min_ratio = s.at("spacing_ratio")[0];
+    b.spacing_mean_ratio = s.at("spacing_ratio")[1];
+    b.spacing_max_ratio = s.at("spacing_ratio")[2];
+    b.spacing_spread = s.at("spacing_ratio")[3];
     b.relaxation_steps_done = s.at("relaxation_steps");
+    b.neighbour_builds = s.at("neighbour_builds");
     b.level_set_seconds = s.at("seconds")[0];
     b.lattice_seconds = s.at("seconds")[1];
     b.relaxation_seconds = s.at("seconds")[2];

@@ -5,7 +5,11 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <stdexcept>
+#include <string>
+#include <type_traits>
 #include <variant>
 
 #include "libsph/core/cell_linked_list.hpp"
@@ -130,33 +134,117 @@ class LevelSet {
   std::vector<double> values_;
 };
 
-// The part of particle i's kernel support that lies outside the shape, by quadrature over the
-// level-set nodes there: each node stands for a cell of volume dp^3, of which the fraction
-// H = clamp(1/2 + phi / dp, 0, 1) is outside (exact for a face parallel to the lattice, and smooth
-// across curved surfaces, edges and corners). Adds the outside part of sum V grad_i W to `gradient`
-// and returns the outside part of sum V W.
-template <class Kernel>
-double add_outside_support(const LevelSet& level_set, const Vec3& x, double h, Vec3& gradient) {
-  const double dp = level_set.spacing();
-  const double support = Kernel::support_radius(sph::Real(h));
-  const Vec3 s = (x - level_set.origin()) / dp;
-  const long reach = static_cast<long>(std::ceil(support / dp));
-  const long ci = std::lround(s.x()), cj = std::lround(s.y()), ck = std::lround(s.z());
-  const double cell = dp * dp * dp;
-  double mass = 0;
-  for (long k = ck - reach; k <= ck + reach; ++k)
-    for (long j = cj - reach; j <= cj + reach; ++j)
-      for (long i = ci - reach; i <= ci + reach; ++i) {
-        const double outside = std::clamp(0.5 + level_set.node(i, j, k) / dp, 0.0, 1.0);
-        if (outside == 0) continue;
-        const Vec3 xy = x - level_set.node_position(i, j, k);
-        const double r = xy.norm();
-        if (r >= support || r <= 0) continue;
-        gradient += outside * cell * double(Kernel::derivative(sph::Real(r), sph::Real(h))) / r * xy;
-        mass += outside * cell * double(Kernel::value(sph::Real(r), sph::Real(h)));
-      }
-  return mass;
-}
+// The level-set nodes that can lie in the kernel support of a particle outside the shape: those
+// whose cell is partly outside, H = clamp(1/2 + phi / dp, 0, 1) > 0 (H = 1 for a face parallel to
+// the lattice at phi = dp/2, smooth across curved surfaces, edges and corners). Each stands for a
+// cell of volume dp^3, of which the fraction H is outside. Only nodes closer to the surface than
+// `reach` are kept: a particle, inside, cannot see the others.
+struct OutsideNodes {
+  std::vector<Vec3> position;
+  std::vector<double> weight;                 ///< H dp^3
+  std::vector<std::uint32_t> index_of_node;   ///< node -> index here, or `none`
+  static constexpr std::uint32_t none = ~std::uint32_t(0);
+
+  OutsideNodes(const LevelSet& level_set, double reach) {
+    const double dp = level_set.spacing();
+    const auto& n = level_set.nodes();
+    const std::size_t total = static_cast<std::size_t>(n[0] * n[1] * n[2]);
+    if (total >= std::size_t(none))
+      throw std::invalid_argument("particle generation: " + std::to_string(total) + " level-set nodes are too many");
+    index_of_node.assign(total, none);
+    for (long k = 0; k < n[2]; ++k)
+      for (long j = 0; j < n[1]; ++j)
+        for (long i = 0; i < n[0]; ++i) {
+          const double phi = level_set.node(i, j, k);
+          const double outside = std::clamp(0.5 + phi / dp, 0.0, 1.0);
+          if (outside == 0 || phi > reach) continue;
+          index_of_node[static_cast<std::size_t>(i + n[0] * (j + n[1] * k))] = static_cast<std::uint32_t>(position.size());
+          position.push_back(level_set.node_position(i, j, k));
+          weight.push_back(outside * (dp * dp * dp));
+        }
+  }
+};
+
+// Verlet lists: for each particle, the particles and the outside nodes within support + skin of its
+// position at the last build, in increasing index. While no particle has moved more than skin / 2
+// since, they hold every particle and node within the support (two particles approach by at most
+// skin), so the sums below, which test the exact distance, have the same terms in the same order as
+// with lists built anew: the result does not depend on the skin or on when the lists were rebuilt.
+// Verlet 1967, Phys. Rev. 159:98; Allen & Tildesley, Computer Simulation of Liquids, sec. 5.3.
+struct SkinLists {
+  double skin = 0;
+  std::vector<Vec3> built_at;                   ///< positions at the last build
+  std::vector<std::size_t> pair_offsets, node_offsets;
+  std::vector<sph::Index> pairs;                ///< particle neighbours j of row i
+  std::vector<std::uint32_t> nodes;             ///< OutsideNodes indices of row i
+  sph::CellLinkedList<3> cells;
+  long builds = 0;
+
+  void build(const std::vector<sph::Vec<3>>& x, const std::vector<Vec3>& positions, const LevelSet& level_set,
+             const OutsideNodes& outside, double support) {
+    const std::size_t n = x.size();
+    const double dp = level_set.spacing();
+    const auto radius = sph::Real(support + skin);
+    // Kept: squared distance below radius^2, widened by 64 epsilon so that rounding never drops a
+    // pair that the residual would count.
+    const auto radius2 = radius * radius * (1 + 64 * std::numeric_limits<sph::Real>::epsilon());
+    const double node_radius2 = (support + skin) * (support + skin) * (1 + 64 * std::numeric_limits<double>::epsilon());
+    built_at = positions;
+    ++builds;
+    cells.rebuild(x, radius);
+    auto visit_pairs = [&](std::size_t i, auto&& keep) {
+      cells.for_each_candidate(x[i], [&](sph::Index j) {
+        if (j != i && (x[i] - x[j]).squaredNorm() < radius2) keep(j);
+      });
+    };
+    const auto& n_nodes = level_set.nodes();
+    // A node within support + skin of x lies within (support + skin) / dp + 1/2 nodes of x's
+    // rounded node along each axis.
+    const long reach = static_cast<long>(std::floor((support + skin) / dp + 0.5));
+    auto visit_nodes = [&](std::size_t i, auto&& keep) {
+      const Vec3 s = (positions[i] - level_set.origin()) / dp;
+      const long ci = std::lround(s.x()), cj = std::lround(s.y()), ck = std::lround(s.z());
+      for (long k = std::max(ck - reach, 0L); k <= std::min(ck + reach, n_nodes[2] - 1); ++k)
+        for (long j = std::max(cj - reach, 0L); j <= std::min(cj + reach, n_nodes[1] - 1); ++j)
+          for (long l = std::max(ci - reach, 0L); l <= std::min(ci + reach, n_nodes[0] - 1); ++l) {
+            const auto node = static_cast<std::size_t>(l + n_nodes[0] * (j + n_nodes[1] * k));
+            const std::uint32_t o = outside.index_of_node[node];
+            if (o != OutsideNodes::none && (positions[i] - outside.position[o]).squaredNorm() < node_radius2) keep(o);
+          }
+    };
+    // Compressed rows, collected in fixed blocks of particles (each row sorted when asked) and joined
+    // in block order: the same lists for any thread count, with one search instead of the count and
+    // fill passes of sph::NeighbourList. Node rows come out in increasing node index, which is
+    // increasing OutsideNodes index.
+    auto fill = [&](auto&& visit, std::vector<std::size_t>& offsets, auto& entries, bool sort) {
+      constexpr std::size_t block = 256;
+      const std::size_t n_blocks = (n + block - 1) / block;
+      std::vector<std::vector<std::uint32_t>> parts(n_blocks);
+      offsets.resize(n + 1);
+      sph::parallel_for(n_blocks, [&](std::size_t b) {
+        auto& part = parts[b];
+        for (std::size_t i = b * block; i < std::min(n, (b + 1) * block); ++i) {
+          const std::size_t start = part.size();
+          visit(i, [&](std::uint32_t e) { part.push_back(e); });
+          if (sort) std::sort(part.begin() + std::ptrdiff_t(start), part.end());
+          offsets[i + 1] = part.size() - start;
+        }
+      });
+      offsets[0] = 0;
+      for (std::size_t i = 0; i < n; ++i) offsets[i + 1] += offsets[i];
+      entries.resize(offsets[n]);
+      sph::parallel_for(n_blocks, [&](std::size_t b) {
+        std::copy(parts[b].begin(), parts[b].end(), entries.begin() + std::ptrdiff_t(offsets[b * block]));
+      });
+    };
+    fill(visit_pairs, pair_offsets, pairs, true);
+    fill(visit_nodes, node_offsets, nodes, false);
+  }
+  /// The largest displacement since the last build; the lists are stale once twice it exceeds the skin.
+  double largest_displacement(const std::vector<Vec3>& positions) const {
+    return sph::parallel_max(positions.size(), 0.0, [&](std::size_t i) { return (positions[i] - built_at[i]).norm(); });
+  }
+};
 
 template <class Kernel>
 void relax_and_measure(const Kernel&, const LevelSet& level_set, const ParticleGenerationSettings& settings,
@@ -169,31 +257,69 @@ void relax_and_measure(const Kernel&, const LevelSet& level_set, const ParticleG
   const std::size_t n = body.size();
   std::vector<sph::Vec<3>> x(n);
   std::vector<Vec3> residual(n);
+  SkinLists lists;
+  lists.skin = settings.neighbour_skin * dp;
+  // Outside nodes a particle can reach: within support + skin of the surface, with 2 dp for the
+  // level set's interpolation (a particle may sit a little outside it).
+  const OutsideNodes outside(level_set, support + lists.skin + 2 * dp);
 
   auto refresh = [&] {
     sph::parallel_for(n, [&](std::size_t i) {
       x[i] = body.positions[i].cast<sph::Real>();
       body.depth[i] = -level_set.distance(body.positions[i]);
     });
+    if (lists.builds == 0 || 2 * lists.largest_displacement(body.positions) > lists.skin)
+      lists.build(x, body.positions, level_set, outside, support);
   };
-  // r_i and, alongside, the kernel sum sum_j W_ij (for the volumes).
+  // r_i and, alongside, the kernel sum sum_j W_ij (for the volumes). The outside part integrates
+  // the kernel over the outside nodes in the support (only for particles near the surface). With
+  // W = a(h) w(q) and dW/dr = a(h) / h w'(q), q = r / h: one division per pair.
+  const double value_factor = double(Kernel::normalisation(hr));
+  const double gradient_factor = value_factor / h;
+  const double inverse_h = 1 / h;
+  const double support2 = support * support;
   auto compute_residual = [&](std::vector<double>* kernel_sum) {
-    const sph::CellLinkedList<3> cells(x, sph::Real(support));
-    return std::sqrt(sph::parallel_sum(n, 0.0, [&](std::size_t i) {
+    const std::size_t* pair_offsets = lists.pair_offsets.data();
+    const sph::Index* pairs = lists.pairs.data();
+    const std::size_t* node_offsets = lists.node_offsets.data();
+    const std::uint32_t* nodes = lists.nodes.data();
+    const sph::Vec<3>* xs = x.data();
+    const Vec3* node_position = outside.position.data();
+    const double* node_weight = outside.weight.data();
+    auto row = [&](std::size_t i, auto with_sum) {
       Vec3 r = Vec3::Zero();
       double w = 0;
-      cells.for_each_candidate(x[i], [&](sph::Index j) {
-        if (j == i) return;
-        const sph::Vec<3> xij = x[i] - x[j];
-        const sph::Real dist = xij.norm();
-        if (dist >= sph::Real(support) || dist <= 0) return;
-        r += v0 * double(Kernel::derivative(dist, hr) / dist) * xij.template cast<double>();
-        w += double(Kernel::value(dist, hr));
-      });
-      if (body.depth[i] < support + 0.5 * dp) w += add_outside_support<Kernel>(level_set, body.positions[i], h, r) / v0;
+      const sph::Vec<3> xi = xs[i];
+      for (std::size_t k = pair_offsets[i]; k < pair_offsets[i + 1]; ++k) {
+        const Vec3 xij = (xi - xs[pairs[k]]).template cast<double>();
+        const double distance2 = xij.squaredNorm();
+        if (distance2 >= support2 || distance2 <= 0) continue;
+        const double distance = std::sqrt(distance2);
+        const auto q = sph::Real(distance * inverse_h);
+        r += (v0 * gradient_factor * double(Kernel::shape_derivative(q)) / distance) * xij;
+        if constexpr (with_sum) w += value_factor * double(Kernel::shape(q));
+      }
+      if (body.depth[i] < support + 0.5 * dp) {
+        const Vec3 p = body.positions[i];
+        double mass = 0;
+        for (std::size_t k = node_offsets[i]; k < node_offsets[i + 1]; ++k) {
+          const std::uint32_t o = nodes[k];
+          const Vec3 xy = p - node_position[o];
+          const double distance2 = xy.squaredNorm();
+          if (distance2 >= support2 || distance2 <= 0) continue;
+          const double distance = std::sqrt(distance2);
+          const auto q = sph::Real(distance * inverse_h);
+          r += (node_weight[o] * gradient_factor * double(Kernel::shape_derivative(q)) / distance) * xy;
+          if constexpr (with_sum) mass += node_weight[o] * value_factor * double(Kernel::shape(q));
+        }
+        w += mass / v0;
+      }
       residual[i] = r;
-      if (kernel_sum) (*kernel_sum)[i] = w;
+      if constexpr (with_sum) (*kernel_sum)[i] = w;
       return r.squaredNorm() * h * h;
+    };
+    return std::sqrt(sph::parallel_sum(n, 0.0, [&](std::size_t i) {
+      return kernel_sum ? row(i, std::true_type{}) : row(i, std::false_type{});
     }) / double(n));
   };
 
@@ -221,6 +347,7 @@ void relax_and_measure(const Kernel&, const LevelSet& level_set, const ParticleG
     if (settings.on_step) settings.on_step(step + 1, body.residual_final);
     if (largest < settings.converged_displacement * dp) break;
   }
+  body.neighbour_builds = lists.builds;
   body.relaxation_seconds = seconds_since(relax_start);
 
   // Volumes from the number density, with the kernel mass missing beyond the surface added back.
@@ -245,6 +372,35 @@ void relax_and_measure(const Kernel&, const LevelSet& level_set, const ParticleG
     body.surface[i] = body.depth[i] < dp ? 1 : 0;
   });
   body.volume_seconds = seconds_since(volume_start);
+}
+
+// Nearest-neighbour distances over dp (min, mean, max, std / mean) by a cell list of cell 2 dp; a
+// particle without a neighbour within 2 dp counts 2.
+void measure_spacing(BodyParticles& body, double dp) {
+  const std::size_t n = body.size();
+  std::vector<sph::Vec<3>> x(n);
+  for (std::size_t i = 0; i < n; ++i) x[i] = body.positions[i].cast<sph::Real>();
+  const sph::CellLinkedList<3> cells(x, sph::Real(2 * dp));
+  std::vector<double> nearest(n);
+  sph::parallel_for(n, [&](std::size_t i) {
+    double d = 2 * dp;
+    cells.for_each_candidate(x[i], [&](sph::Index j) {
+      if (j != i) d = std::min(d, (body.positions[i] - body.positions[j]).norm());
+    });
+    nearest[i] = d / dp;
+  });
+  double sum = 0, sum2 = 0;
+  body.spacing_min_ratio = std::numeric_limits<double>::infinity();
+  body.spacing_max_ratio = 0;
+  for (double d : nearest) {
+    sum += d;
+    sum2 += d * d;
+    body.spacing_min_ratio = std::min(body.spacing_min_ratio, d);
+    body.spacing_max_ratio = std::max(body.spacing_max_ratio, d);
+  }
+  body.spacing_mean_ratio = sum / double(n);
+  body.spacing_spread = std::sqrt(std::max(0.0, sum2 / double(n) - body.spacing_mean_ratio * body.spacing_mean_ratio)) /
+                        body.spacing_mean_ratio;
 }
 
 }  // namespace
@@ -304,6 +460,7 @@ BodyParticles generate_particles(const Shape& shape, const ParticleGenerationSet
   const double mean = sum / double(count);
   body.volume_relative_error = (sum - body.shape_volume) / body.shape_volume;
   body.density_spread = std::sqrt(std::max(0.0, sum2 / double(count) - mean * mean)) / mean;
+  measure_spacing(body, dp);
   return body;
 }
 

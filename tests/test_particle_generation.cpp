@@ -7,6 +7,7 @@
 
 #include "geometry/particle_generation.hpp"
 #include "geometry/shape.hpp"
+#include "libsph/core/parallel.hpp"
 
 namespace {
 
@@ -100,13 +101,67 @@ TEST(ParticleGeneration, SphereVolumeAndConfinement) {
   std::cout << "[ measured ] sphere r = 1, dp = 0.1: " << body.size() << " particles, N dp^3 / V = "
             << body.size() * 1e-3 / body.shape_volume << ", volume error " << body.volume_relative_error
             << ", spread " << body.density_spread << ", V/dp^3 in [" << body.volume_min_ratio << ", "
-            << body.volume_max_ratio << "], residual " << body.residual_initial << " -> " << body.residual_final
-            << " in " << body.relaxation_steps_done << " steps\n";
+            << body.volume_max_ratio << "], nearest neighbour / dp in [" << body.spacing_min_ratio << " (bound 0.8), "
+            << body.spacing_max_ratio << "], mean " << body.spacing_mean_ratio << ", residual " << body.residual_initial
+            << " -> " << body.residual_final << " in " << body.relaxation_steps_done << " steps\n";
   // Every particle at least 0.1 dp inside, up to the level set's interpolation error (~dp^2 / 8R).
   EXPECT_LT(deepest_outside, -0.01 + 2e-3);
   EXPECT_LT(std::abs(body.volume_relative_error), 0.01);
   EXPECT_LT(body.density_spread, 0.01);
   EXPECT_LT(body.residual_final, 0.2 * body.residual_initial);
+  EXPECT_GT(body.spacing_min_ratio, 0.8);  // no two particles pressed together
+}
+
+
+// Positions and volumes bit for bit equal.
+long count_differences(const geometry::BodyParticles& a, const geometry::BodyParticles& b) {
+  if (a.size() != b.size()) return -1;
+  long differences = 0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (a.positions[i] != b.positions[i] || a.volumes[i] != b.volumes[i]) ++differences;
+  return differences;
+}
+
+// The relaxation's neighbour lists hold the particles and outside nodes within support + skin and are
+// reused until a particle has moved skin / 2: the particles must come out exactly as with lists built
+// at every step (skin 0), whatever the skin.
+TEST(ParticleGeneration, ReusedNeighbourListsGiveTheParticlesOfListsBuiltEveryStep) {
+  // A body with a concave edge, so that the outside nodes matter: a sphere cut by a box.
+  const auto shape = geometry::make_difference(geometry::make_ellipsoid(Vec3::Zero(), Vec3(1, 1, 1)),
+                                               geometry::make_box(Vec3(0.3, 0.3, -2), Vec3(2, 2, 2)));
+  geometry::ParticleGenerationSettings settings;
+  settings.spacing = 0.15;
+  settings.relaxation_steps = 30;
+  settings.neighbour_skin = 0;
+  const auto every_step = geometry::generate_particles(*shape, settings);
+  for (double skin : {0.3, 1.0}) {
+    settings.neighbour_skin = skin;
+    const auto reused = geometry::generate_particles(*shape, settings);
+    const long differences = count_differences(every_step, reused);
+    std::cout << "[ measured ] skin " << skin << " dp: " << reused.neighbour_builds << " list builds in "
+              << reused.relaxation_steps_done << " steps (skin 0: " << every_step.neighbour_builds << "), "
+              << differences << " of " << reused.size() << " particles differ (bound 0)\n";
+    EXPECT_EQ(differences, 0);
+    EXPECT_LT(reused.neighbour_builds, every_step.neighbour_builds / 2);
+  }
+  EXPECT_EQ(every_step.neighbour_builds, every_step.relaxation_steps_done + 1);
+}
+
+TEST(ParticleGeneration, SameParticlesForOneAndTwoThreads) {
+  const auto sphere = geometry::make_ellipsoid(Vec3::Zero(), Vec3(1, 0.8, 0.6));
+  geometry::ParticleGenerationSettings settings;
+  settings.spacing = 0.1;
+  settings.relaxation_steps = 30;
+  auto run = [&](std::size_t threads) {
+    sph::ThreadLimit limit(threads);
+    return geometry::generate_particles(*sphere, settings);
+  };
+  const auto one = run(1), two = run(2);
+  const long differences = count_differences(one, two);
+  std::cout << "[ measured ] " << differences << " of " << one.size() << " particles differ between 1 and 2 threads (bound 0)\n";
+  EXPECT_EQ(differences, 0);
+  EXPECT_EQ(one.volume_relative_error, two.volume_relative_error);
+  EXPECT_EQ(one.spacing_mean_ratio, two.spacing_mean_ratio);
 }
 
 }  // namespace

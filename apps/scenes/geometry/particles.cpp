@@ -1,6 +1,6 @@
 // `cardiosph particles MESH --dp X`: the heart-geometry stage alone. Writes the particles with
 // volumes, surface normals, labels, fibres, sheets and the Laplace coordinates (particles.pvd) and
-// reports the particle count, volume error, volume spread and, on the shipped LV ellipsoid, the
+// reports the particle count, volume error, volume spread, nearest-neighbour spacing and, on the shipped LV ellipsoid, the
 // fibre angle's deviation from the prescribed law.
 
 #include <iostream>
@@ -61,9 +61,14 @@ class ParticlesScene final : public Scene {
     r.results["density_spread"] = g.body.density_spread;
     r.results["volume_ratio_min"] = g.body.volume_min_ratio;
     r.results["volume_ratio_max"] = g.body.volume_max_ratio;
+    r.results["spacing_ratio"] = {{"min", g.body.spacing_min_ratio},
+                                  {"mean", g.body.spacing_mean_ratio},
+                                  {"max", g.body.spacing_max_ratio},
+                                  {"spread", g.body.spacing_spread}};
     r.results["shape_volume_mm3"] = g.body.shape_volume;
     r.results["relaxation_residual"] = {g.body.residual_initial, g.body.residual_final};
     r.results["relaxation_steps"] = g.body.relaxation_steps_done;
+    r.results["neighbour_builds"] = g.body.neighbour_builds;
     r.results["label_method"] = g.label_method;
     for (auto l : {cardio::label_epi, cardio::label_lv_endo, cardio::label_rv_endo, cardio::label_base})
       r.results["labelled"][std::string(cardio::surface_label_name(l))] = std::count(g.labels.begin(), g.labels.end(), l);
@@ -72,6 +77,7 @@ class ParticlesScene final : public Scene {
     r.results["geometry_seconds"] = g.seconds;
     if (!g.from_cache) {
       r.results["seconds"] = {{"level_set", g.body.level_set_seconds},
+                              {"lattice", g.body.lattice_seconds},
                               {"relaxation", g.body.relaxation_seconds},
                               {"volumes", g.body.volume_seconds},
                               {"fibres", g.fibres.total_seconds},
