@@ -35,7 +35,8 @@ SceneRunResult run_scene(const std::string& scene_name, const CommonOptions& opt
   const SceneEntry* entry = find_scene(scene_name);
   if (!entry) throw sph::ParameterError("unknown scene '" + scene_name + "' (see 'cardiosph list')");
 
-  // 1. Parameters: defaults, config file, --resolution/--end-time, --set, extra; then checks.
+  // 1. Parameters: defaults, config file, --resolution/--end-time, --set, extra, then the chosen
+  // presets on what those left alone; then checks.
   auto scene = entry->make();
   sph::Parameters parameters;
   scene->declare(parameters);
@@ -44,6 +45,7 @@ SceneRunResult run_scene(const std::string& scene_name, const CommonOptions& opt
   if (!options.end_time.empty()) parameters.set("end_time", options.end_time, "--end-time");
   for (const auto& a : options.assignments) parameters.set_assignment(a, "--set");
   for (const auto& a : extra) parameters.set_assignment(a, "--sweep");
+  parameters.apply_presets();
   parameters.check();
   scene->check();
   if (options.threads < 0) throw sph::ParameterError("option '--threads' = " + std::to_string(options.threads) + ": must be >= 0");

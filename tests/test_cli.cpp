@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -91,6 +92,25 @@ TEST_F(Cli, SpacingLargerThanTheTankIsRejected) {
 }
 TEST_F(Cli, UnknownFluidSchemeIsRejected) {
   expect_rejected({"taylor-green", "--set", "fluid_scheme=sph"}, "must be one of");
+}
+// A preset fills the parameters that the config file and the command line left alone; an explicit
+// setting wins whatever its place on the command line.
+TEST_F(Cli, PresetFillsWhatTheUserLeftAlone) {
+  ASSERT_EQ(run({"myocardium-cube", "--set", "end_time=1.1", "--preset", "sphinxsys", "--parameters"}), 0) << stderr_;
+  for (const char* line : {"end_time = 1.1 ", "max_tension = -15 ", "kernel = wendland_c2 ", "damping_rate = 0 "})
+    EXPECT_NE(stdout_.find(line), std::string::npos) << line << " missing from:\n" << stdout_;
+  ASSERT_EQ(run({"myocardium-cube", "--parameters"}), 0) << stderr_;
+  EXPECT_NE(stdout_.find("max_tension = 5 "), std::string::npos) << stdout_;
+  const auto config = write("cube.toml", "preset = \"sphinxsys\"\nmax_tension = -3\n");
+  ASSERT_EQ(run({"myocardium-cube", "--config", config.string(), "--parameters"}), 0) << stderr_;
+  EXPECT_NE(stdout_.find("max_tension = -3 "), std::string::npos) << stdout_;
+  EXPECT_NE(stdout_.find("end_time = 1.2 "), std::string::npos) << stdout_;
+}
+TEST_F(Cli, HeartPresetWithoutItsMeshIsRejected) {
+  const fs::path missing = folder_ / "no_shared_meshes";
+  ::setenv("CARDIOSPH_SHARED_MESHES", missing.string().c_str(), 1);
+  expect_rejected({"heart", "--preset", "sphinxsys"}, (missing / "biventricular_heart.stl").string());
+  ::unsetenv("CARDIOSPH_SHARED_MESHES");
 }
 TEST_F(Cli, UnknownChoiceIsRejected) { expect_rejected({"diffusion", "--set", "kernel=gauss"}, "must be one of"); }
 TEST_F(Cli, MissingConfigIsRejected) {

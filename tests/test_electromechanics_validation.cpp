@@ -23,6 +23,7 @@ sph::RunReport run(std::unique_ptr<cardiosph::Scene> scene, const std::vector<st
   scene->declare(parameters);
   if (parameters.has("cache")) parameters.set("cache", "none", "test");
   for (const auto& a : assignments) parameters.set_assignment(a, "test");
+  parameters.apply_presets();
   parameters.check();
   return test::run_scene(*scene, name);
 }

@@ -20,6 +20,7 @@ sph::RunReport run_particles(const std::vector<std::string>& assignments, const 
   scene->declare(parameters);
   parameters.set("cache", "none", "test");
   for (const auto& a : assignments) parameters.set_assignment(a, "test");
+  parameters.apply_presets();
   parameters.check();
   return test::run_scene(*scene, name);
 }

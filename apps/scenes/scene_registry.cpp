@@ -40,7 +40,7 @@ const std::vector<SceneEntry>& scene_registry() {
        [] { return make_particles_scene(); }, {"mesh"}, {"dp"}},
       {"myocardium-cube", "active myocardium cube on a sliding holder (prescribed tension): corner displacements and "
                           "equilibrium residual",
-       [] { return make_myocardium_cube_scene(); }},
+       [] { return make_myocardium_cube_scene(); }, {}, {"preset"}},
       {"land-lv", "Land et al. 2015 problems 2 and 3 on the idealised LV: apex positions against the published ones",
        [] { return make_land_lv_scene(); }},
       {"dambreak", "2D dam break (SPHinXsys setup): surge front against Martin & Moyce and Koshizuka & Oka, wall pressure",

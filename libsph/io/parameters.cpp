@@ -238,6 +238,15 @@ Parameters::Entry& Parameters::entry(const std::string& key, const std::string& 
 
 void Parameters::set(const std::string& key, const std::string& text, const std::string& origin) {
   entry(key, origin).parse(text, origin);
+  if (std::find(explicit_keys_.begin(), explicit_keys_.end(), key) == explicit_keys_.end()) explicit_keys_.push_back(key);
+}
+
+void Parameters::apply_presets() {
+  for (const auto& preset : presets_) {
+    const std::string origin = "preset " + quoted(preset.key + "=" + entry(preset.key, "").text());
+    for (const auto& [key, text] : preset.current())
+      if (std::find(explicit_keys_.begin(), explicit_keys_.end(), key) == explicit_keys_.end()) entry(key, origin).parse(text, origin);
+  }
 }
 
 void Parameters::set_assignment(const std::string& assignment, const std::string& origin) {

@@ -6,7 +6,9 @@
 // here, and never compared as a string in a scene. Values can then be set from
 // a config file (TOML or JSON; nested tables give dotted keys) and from the command line
 // (`--set key=value`); an unknown key or a value out of range throws ParameterError naming the key,
-// the value, where it came from and what was expected.
+// the value, where it came from and what was expected. A preset (add_preset) is a named set of
+// values for other parameters; apply_presets() gives them to every parameter that the config file
+// and the command line left alone, so an explicit setting wins whatever its order.
 
 #include <Eigen/Core>
 #include <filesystem>
@@ -44,6 +46,17 @@ struct Range {
   std::string describe() const;
 };
 
+/// One choice of a preset (Parameters::add_preset): its name, the enum value it selects and the
+/// values it gives to other parameters, as they would be written after `--set key=`.
+template <class E>
+struct PresetChoice {
+  PresetChoice(std::string choice, E selects, std::vector<std::pair<std::string, std::string>> assignments = {})
+      : name(std::move(choice)), value(selects), values(std::move(assignments)) {}
+  std::string name;
+  E value;
+  std::vector<std::pair<std::string, std::string>> values;
+};
+
 class Parameters {
  public:
   void add(const std::string& key, double& value, const std::string& unit, const std::string& help,
@@ -79,6 +92,22 @@ class Parameters {
         });
   }
 
+  /// A preset parameter: chosen like add_enum; its values are applied by apply_presets().
+  template <class E>
+  void add_preset(const std::string& key, E& value, const std::vector<PresetChoice<E>>& choices, const std::string& help) {
+    std::vector<std::pair<std::string, E>> names;
+    for (const auto& c : choices) names.emplace_back(c.name, c.value);
+    add_enum(key, value, names, help);
+    presets_.push_back({key, [&value, choices]() -> const PresetValues& {
+                          for (const auto& c : choices)
+                            if (c.value == value) return c.values;
+                          throw std::logic_error("preset without its choice");
+                        }});
+  }
+  /// Sets the values of each preset's current choice on the parameters not set by set() (config
+  /// file, command line); throws ParameterError if a preset names an unknown parameter or a bad value.
+  void apply_presets();
+
   bool has(const std::string& key) const;
   /// Parses `text` for `key` and checks it; `origin` (e.g. "--set", a file name) goes into errors.
   void set(const std::string& key, const std::string& text, const std::string& origin);
@@ -110,7 +139,14 @@ class Parameters {
   void add_named_choice(const std::string& key, std::vector<std::string> choices, const std::string& help,
                         std::function<void(std::size_t)> select, std::function<std::string()> current);
   void add_entry(Entry e);
+  using PresetValues = std::vector<std::pair<std::string, std::string>>;
+  struct Preset {
+    std::string key;
+    std::function<const PresetValues&()> current;
+  };
   std::vector<Entry> entries_;
+  std::vector<Preset> presets_;
+  std::vector<std::string> explicit_keys_;  // set by set(): presets leave them alone
 };
 
 }  // namespace sph

@@ -46,6 +46,23 @@ inline const std::vector<std::pair<std::string, ReactionScheme>>& reaction_schem
   return names;
 }
 
+/// The rbr_qss step as written: a forward sweep over the variables with dt/2, then a backward one.
+template <ReactionModel M>
+void rbr_qss_sweeps(const M& model, typename M::State& y, double stimulus, double dt) {
+  constexpr std::size_t n = M::n_states;
+  const double half = 0.5 * dt;
+  for (std::size_t k = 0; k < n; ++k) y[k] = qss_update(y[k], model.production_loss(k, y, stimulus), half);
+  for (std::size_t k = n; k-- > 0;) y[k] = qss_update(y[k], model.production_loss(k, y, stimulus), half);
+}
+
+/// A model may do the rbr_qss step itself, skipping what the two sweeps share (terms whose inputs
+/// the sweeps leave unchanged in between); it must give rbr_qss_sweeps' result bit for bit (tested
+/// for each model that has one).
+template <class M>
+concept HasOwnRbrQssStep = requires(const M& model, typename M::State& y, double stimulus, double dt) {
+  model.rbr_qss_step(y, stimulus, dt);
+};
+
 template <ReactionModel M>
 void advance_cell(const M& model, typename M::State& y, double stimulus, double dt, ReactionScheme scheme) {
   constexpr std::size_t n = M::n_states;
@@ -61,12 +78,10 @@ void advance_cell(const M& model, typename M::State& y, double stimulus, double 
       for (std::size_t k = 0; k < n; ++k) y[k] = qss_update(y[k], r[k], dt);
       return;
     }
-    case ReactionScheme::rbr_qss: {
-      const double half = 0.5 * dt;
-      for (std::size_t k = 0; k < n; ++k) y[k] = qss_update(y[k], model.production_loss(k, y, stimulus), half);
-      for (std::size_t k = n; k-- > 0;) y[k] = qss_update(y[k], model.production_loss(k, y, stimulus), half);
+    case ReactionScheme::rbr_qss:
+      if constexpr (HasOwnRbrQssStep<M>) model.rbr_qss_step(y, stimulus, dt);
+      else rbr_qss_sweeps(model, y, stimulus, dt);
       return;
-    }
   }
 }
 

@@ -15,6 +15,7 @@
 
 #include <cmath>
 #include <initializer_list>
+#include <optional>
 
 namespace sph {
 
@@ -351,7 +352,10 @@ double TenTusscherPanfilov2006::potassium_rate(const PotassiumCurrents& I_K, dou
 // ---------------------------------------------------------------------------------------------
 // The interface.
 // ---------------------------------------------------------------------------------------------
-ProductionLoss TenTusscherPanfilov2006::production_loss(std::size_t k, const State& y, double stimulus) const {
+// Not inlined: rbr_qss_step() and the generic sweeps then round every production and loss the same
+// way (inlined, the compiler may fuse a multiply of the rate with the loss term into one FMA).
+[[gnu::noinline]] ProductionLoss TenTusscherPanfilov2006::production_loss(std::size_t k, const State& y,
+                                                                          double stimulus) const {
   const auto from_rate = [&](RateAndLoss r) { return with_nonnegative_loss({r.rate + r.loss * y[k], r.loss}, y[k]); };
   switch (k) {
     case SI::V:
@@ -400,6 +404,26 @@ TenTusscherPanfilov2006::State TenTusscherPanfilov2006::rates(const State& y, do
     dy[k] = (g.steady_state - y[k]) / g.time_constant;
   }
   return dy;
+}
+
+void TenTusscherPanfilov2006::rbr_qss_step(State& y, double stimulus, double dt) const {
+  // The order of rbr_qss_sweeps: forward V, the gates Xr1 ... r, Ca_i ... K_i; backward K_i ...
+  // Ca_i, the gates r ... Xr1, V. Between the forward and backward update of a gate only the
+  // gates after it and the non-gate states change; of these, a gate's kinetics read Ca_ss only for
+  // fCass, which is evaluated anew.
+  static_assert(SI::Xr1 == 1 && SI::r == 12 && SI::Ca_i == 13 && SI::K_i == n_states - 1);
+  const double half = 0.5 * dt;
+  y[SI::V] = qss_update(y[SI::V], production_loss(SI::V, y, stimulus), half);
+  std::array<std::optional<QssStep>, SI::r + 1> gate;
+  for (std::size_t k = SI::Xr1; k <= SI::r; ++k) {
+    gate[k].emplace(production_loss(k, y, stimulus), half);
+    y[k] = gate[k]->apply(y[k]);
+  }
+  for (std::size_t k = SI::Ca_i; k < n_states; ++k) y[k] = qss_update(y[k], production_loss(k, y, stimulus), half);
+  for (std::size_t k = n_states; k-- > SI::Ca_i;) y[k] = qss_update(y[k], production_loss(k, y, stimulus), half);
+  for (std::size_t k = SI::r; k >= SI::Xr1; --k)
+    y[k] = k == SI::fCass ? qss_update(y[k], production_loss(k, y, stimulus), half) : gate[k]->apply(y[k]);
+  y[SI::V] = qss_update(y[SI::V], production_loss(SI::V, y, stimulus), half);
 }
 
 }  // namespace sph

@@ -158,6 +158,12 @@ class TenTusscherPanfilov2006 {
   /// dy/dt for all states.
   State rates(const State& y, double stimulus) const;
 
+  /// One rbr_qss step (cell_integrators.hpp) that gives the generic forward and backward sweeps'
+  /// result bit for bit: V is updated first in the forward sweep and last in the backward one, so
+  /// the eleven gates that depend on V alone see the same V in both sweeps; their kinetics (x_inf,
+  /// tau: most of the exponentials of the model) and QSS factors are computed once per step.
+  void rbr_qss_step(State& y, double stimulus, double dt) const;
+
   /// [-200, 200] mV: every exponential in the model stays far from overflow there (arguments below
   /// about 50), and a cell never leaves about [-95, +50] mV, so a state outside this range has gone
   /// wrong.

@@ -1,11 +1,13 @@
 #include "apps/scenes/electromechanics/em_setup.hpp"
 
+#include <algorithm>
+#include <limits>
 #include <stdexcept>
 
 namespace cardiosph {
 
 std::vector<sph::Index> attach_heart_geometry(sph::ElasticSolid<3>& solid, const cardio::HeartGeometry& geometry,
-                                              const std::string& scene) {
+                                              const std::string& scene, sph::Real clamp_depth) {
   auto& body = solid.particles();
   const std::size_t n = body.n_particles();
   if (geometry.fibres.fibre.size() != n || geometry.fibres.sheet.size() != n)
@@ -20,6 +22,14 @@ std::vector<sph::Index> attach_heart_geometry(sph::ElasticSolid<3>& solid, const
   for (std::size_t i = 0; i < n; ++i)
     if (geometry.labels[i] == cardio::label_base) base.push_back(static_cast<sph::Index>(i));
   if (base.empty()) throw std::invalid_argument(scene + ": no particle is labelled base, so the base cannot be fixed");
+  if (clamp_depth > 0) {
+    const sph::Vec<3> normal = geometry.base_normal.cast<sph::Real>();
+    sph::Real plane = -std::numeric_limits<sph::Real>::infinity();
+    for (const auto i : base) plane = std::max(plane, normal.dot(body.position[i]) + sph::Real(geometry.body.depth[i]));
+    base.clear();
+    for (std::size_t i = 0; i < n; ++i)
+      if (normal.dot(body.position[i]) >= plane - clamp_depth) base.push_back(static_cast<sph::Index>(i));
+  }
   solid.clamp(base);
   return base;
 }

@@ -37,9 +37,9 @@ namespace {
 using sph::Real;
 using Vec3 = sph::Vec<3>;
 
-enum class CellModel { aliev_panfilov, ten_tusscher_panfilov };
-enum class StimulusSite { lv_apex, point };
-enum class Preset { coarse, standard, fine };
+enum class CellModel { aliev_panfilov, aliev_panfilov_dimensionless, ten_tusscher_panfilov };
+enum class StimulusSite { lv_apex, point, box };
+enum class Preset { coarse, standard, fine, sphinxsys };
 
 struct HeartParameters {
   HeartGeometryParameters geometry;
@@ -50,6 +50,7 @@ struct HeartParameters {
   double stimulus_strength = 50, stimulus_duration = 2, stimulus_radius = 5;
   StimulusSite stimulus_site = StimulusSite::lv_apex;
   Eigen::Vector3d stimulus_point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d stimulus_box_min = Eigen::Vector3d::Zero(), stimulus_box_max = Eigen::Vector3d::Zero();
   long beats = 1;
   double cycle_length = 800;
   double end_time = 0;  ///< 0: beats x cycle length
@@ -63,10 +64,12 @@ struct HeartParameters {
   double k_a = 0.01;
   double tension_threshold = 1;  ///< V_th - V_r [mV]
   bool tension_allow_negative = false;
+  cardio::ActiveTensionSettings tension_rates;  ///< eps_0, eps_inf and xi (k_a and V_th are set above)
   // Mechanics.
   double density = 1.06;
   double bulk_modulus = 100;
   double damping_rate = 0.02;
+  double clamp_depth = 0;  ///< 0: the particles labelled base; > 0: every particle this close to the base plane
   cardio::CavityPressureSettings cavity_pressure;
   double sample_interval = 2;
   SolidSceneNumerics numerics;
@@ -77,7 +80,8 @@ double preset_spacing(Preset preset) {
   switch (preset) {
     case Preset::coarse: return 3.0;
     case Preset::fine: return 1.0;
-    case Preset::standard: return 2.0;
+    case Preset::standard:
+    case Preset::sphinxsys: return 2.0;
   }
   return 2.0;
 }
@@ -110,11 +114,12 @@ class HeartModel {
         body(particle_set(g)),
         relation(sph::build_inner_relation<3>(body.position, kernel, h)),
         solid(body, relation, solid_settings(p)),
-        base(attach_heart_geometry(solid, g, "heart")),
+        base(attach_heart_geometry(solid, g, "heart", Real(p.clamp_depth))),
         ttp(p.cell_model == CellModel::ten_tusscher_panfilov),
+        dimensionless(p.cell_model == CellModel::aliev_panfilov_dimensionless),
         D_fibre(p.diffusivity_fibre > 0 ? p.diffusivity_fibre : (ttp ? 0.13 : 1.0)),
         D_cross(p.diffusivity_cross > 0 ? p.diffusivity_cross : D_fibre / 4),
-        stimulus_centre(p.stimulus_site == StimulusSite::point ? Vec3(p.stimulus_point.cast<Real>()) : lv_apex(g, body.position)),
+        stimulus_centre(stimulus_centre_of(p, g)),
         monodomain(body, relation, monodomain_settings(p)),
         tension(body, monodomain.potential_field(), tension_settings(p)),
         X(body.field(solid.reference_position_field())) {
@@ -158,7 +163,7 @@ class HeartModel {
   const sph::InnerRelation<3> relation;
   sph::ElasticSolid<3> solid;
   const std::vector<sph::Index> base;
-  const bool ttp;
+  const bool ttp, dimensionless;
   const double D_fibre, D_cross;
   const Vec3 stimulus_centre;
   std::size_t stimulated = 0;
@@ -190,6 +195,7 @@ class HeartModel {
   cardio::Monodomain<3>::Settings monodomain_settings(const HeartParameters& p) {
     cardio::Monodomain<3>::Settings ep;
     if (ttp) ep.cell_model = sph::TenTusscherPanfilov2006{};
+    else if (dimensionless) ep.cell_model = nash_panfilov_dimensionless();
     else ep.cell_model = sph::AlievPanfilov::nash_panfilov_2004();
     ep.numerics = p.monodomain;
     ep.longitudinal_diffusivity = Real(D_fibre);
@@ -199,21 +205,54 @@ class HeartModel {
     for (std::size_t i = 0; i < n(); ++i)
       ep.diffusion_tensor[i] = sph::transversely_isotropic_tensor<3>(Real(D_fibre), Real(D_cross), f[i]);
     cardio::Monodomain<3>::StimulusRegion stimulus;
-    stimulus.name = p.stimulus_site == StimulusSite::point ? "point" : "lv-apex";
-    for (std::size_t i = 0; i < n(); ++i)
-      if ((body.position[i] - stimulus_centre).norm() <= p.stimulus_radius) stimulus.particles.push_back(i);
-    if (stimulus.particles.empty())
-      throw sph::ParameterError("no particle lies within 'stimulus_radius' of the stimulus centre " +
-                                sph::NumericalFailure::format_position(stimulus_centre));
+    const Vec3 lo = p.stimulus_box_min.cast<Real>(), hi = p.stimulus_box_max.cast<Real>();
+    switch (p.stimulus_site) {
+      case StimulusSite::box:
+        stimulus.name = "box";
+        for (std::size_t i = 0; i < n(); ++i)
+          if ((body.position[i].array() >= lo.array()).all() && (body.position[i].array() <= hi.array()).all())
+            stimulus.particles.push_back(i);
+        if (stimulus.particles.empty())
+          throw sph::ParameterError("no particle lies in the stimulus box " + sph::NumericalFailure::format_position(lo) +
+                                    " to " + sph::NumericalFailure::format_position(hi) +
+                                    " ('stimulus_box_min', 'stimulus_box_max', mesh coordinates)");
+        break;
+      case StimulusSite::point:
+      case StimulusSite::lv_apex:
+        stimulus.name = p.stimulus_site == StimulusSite::point ? "point" : "lv-apex";
+        for (std::size_t i = 0; i < n(); ++i)
+          if ((body.position[i] - stimulus_centre).norm() <= p.stimulus_radius) stimulus.particles.push_back(i);
+        if (stimulus.particles.empty())
+          throw sph::ParameterError("no particle lies within 'stimulus_radius' of the stimulus centre " +
+                                    sph::NumericalFailure::format_position(stimulus_centre));
+        break;
+    }
     stimulated = stimulus.particles.size();
     stimulus.protocol = {0, p.stimulus_duration, p.stimulus_strength, p.cycle_length, int(p.beats)};
     ep.stimuli.push_back(stimulus);
-    ep.activation_threshold = ttp ? Real(-40) : Real(-30);
+    // Activation: the upstroke through -40 mV (ten Tusscher-Panfilov), -30 mV (u = 0.5), or u = 0.5.
+    ep.activation_threshold = ttp ? Real(-40) : dimensionless ? Real(0.5) : Real(-30);
     return ep;
+  }
+  /// Aliev-Panfilov with the Nash-Panfilov parameters in its own units (V = u, t = tau), as the
+  /// SPHinXsys heart case runs it (../shared/PARITY.md).
+  static sph::AlievPanfilov nash_panfilov_dimensionless() {
+    auto parameters = sph::AlievPanfilov::nash_panfilov_2004().parameters();
+    parameters.scaling = {1, 0, 1};
+    return sph::AlievPanfilov(parameters);
+  }
+  /// The centre of the stimulus: the point, the LV apex, or the centre of the box.
+  Vec3 stimulus_centre_of(const HeartParameters& p, const cardio::HeartGeometry& g) const {
+    switch (p.stimulus_site) {
+      case StimulusSite::point: return p.stimulus_point.cast<Real>();
+      case StimulusSite::box: return (Real(0.5) * (p.stimulus_box_min + p.stimulus_box_max)).cast<Real>();
+      case StimulusSite::lv_apex: break;
+    }
+    return lv_apex(g, body.position);
   }
   cardio::ActiveTensionSettings tension_settings(const HeartParameters& p) const {
     const Real rest = body.field(monodomain.potential_field())[0];
-    cardio::ActiveTensionSettings ts;
+    cardio::ActiveTensionSettings ts = p.tension_rates;
     ts.k_a = p.k_a;
     ts.rest_potential = rest;
     ts.threshold = rest + p.tension_threshold;
@@ -348,18 +387,29 @@ class HeartScene final : public Scene {
 
   void declare(sph::Parameters& p) override {
     p_.geometry.declare(p);
-    p.add_enum("preset", p_.preset, {{"coarse", Preset::coarse}, {"default", Preset::standard}, {"fine", Preset::fine}},
-               "resolution preset when dp = 0: coarse 3 mm, default 2 mm, fine 1 mm (research resolution)");
+    p.add_preset<Preset>("preset", p_.preset,
+                         {{"coarse", Preset::coarse}, {"default", Preset::standard}, {"fine", Preset::fine},
+                          {"sphinxsys", Preset::sphinxsys, sphinxsys_preset()}},
+                         "resolution preset when dp = 0: coarse 3 mm, default 2 mm, fine 1 mm (research resolution); "
+                         "sphinxsys: the SPHinXsys heart case (docs/electromechanics.md; needs its mesh, "
+                         "$CARDIOSPH_SHARED_MESHES/biventricular_heart.stl)");
     p.add_enum("cell_model", p_.cell_model,
-               {{"aliev_panfilov", CellModel::aliev_panfilov}, {"ten_tusscher_panfilov", CellModel::ten_tusscher_panfilov}},
-               "cell model (Aliev-Panfilov with the Nash-Panfilov parameters, or ten Tusscher-Panfilov 2006 epicardial)");
+               {{"aliev_panfilov", CellModel::aliev_panfilov},
+                {"aliev_panfilov_dimensionless", CellModel::aliev_panfilov_dimensionless},
+                {"ten_tusscher_panfilov", CellModel::ten_tusscher_panfilov}},
+               "cell model (Aliev-Panfilov with the Nash-Panfilov parameters in mV and ms, the same in its own units "
+               "V = u and t = tau, or ten Tusscher-Panfilov 2006 epicardial)");
     p.add("diffusivity_fibre", p_.diffusivity_fibre, "mm^2/ms",
           "D along the fibre (0: 1.0 for Aliev-Panfilov, 0.13 for ten Tusscher-Panfilov)", sph::Range::non_negative());
     p.add("diffusivity_cross", p_.diffusivity_cross, "mm^2/ms", "D across the fibre (0: a quarter of the fibre value)",
           sph::Range::non_negative());
-    p.add_enum("stimulus_site", p_.stimulus_site, {{"lv-apex", StimulusSite::lv_apex}, {"point", StimulusSite::point}},
-               "stimulus centre: the LV endocardial particle farthest from the base, or stimulus_point");
+    p.add_enum("stimulus_site", p_.stimulus_site,
+               {{"lv-apex", StimulusSite::lv_apex}, {"point", StimulusSite::point}, {"box", StimulusSite::box}},
+               "stimulated region: within stimulus_radius of the LV endocardial particle farthest from the base or of "
+               "stimulus_point, or the particles in the box stimulus_box_min to stimulus_box_max");
     p.add_vector("stimulus_point", p_.stimulus_point, "mm", "stimulus centre x,y,z for stimulus_site = point", true);
+    p.add_vector("stimulus_box_min", p_.stimulus_box_min, "mm", "lowest corner x,y,z of the box for stimulus_site = box", true);
+    p.add_vector("stimulus_box_max", p_.stimulus_box_max, "mm", "highest corner x,y,z of the box for stimulus_site = box", true);
     p.add("stimulus_radius", p_.stimulus_radius, "mm", "particles within this distance of the centre are stimulated",
           sph::Range::positive());
     p.add("stimulus_strength", p_.stimulus_strength, "mV/ms", "applied dV/dt of each pulse", sph::Range::positive());
@@ -376,9 +426,17 @@ class HeartScene final : public Scene {
           sph::Range::non_negative());
     p.add("tension_threshold", p_.tension_threshold, "mV", "V_th - V_r of the activation function eps(V)", sph::Range::any());
     p.add("tension_allow_negative", p_.tension_allow_negative, "let the active tension fall below zero");
+    p.add("tension_rate_rest", p_.tension_rates.eps_rest, "1/ms", "eps_0: rate of dT_a/dt at rest (relaxation)", sph::Range::positive());
+    p.add("tension_rate_active", p_.tension_rates.eps_active, "1/ms", "eps_inf: rate of dT_a/dt once excited (development)",
+          sph::Range::positive());
+    p.add("tension_steepness", p_.tension_rates.steepness, "1/mV", "xi: how sharply eps switches at the threshold",
+          sph::Range::positive());
     p.add("density", p_.density, "mg/mm^3", "tissue density", sph::Range::positive());
     p.add("bulk_modulus", p_.bulk_modulus, "kPa", "K of the volumetric penalty (near incompressibility)", sph::Range::positive());
     p.add("damping_rate", p_.damping_rate, "1/ms", "velocity damping c of dv/dt = ... - c v (surrounding tissue and blood)",
+          sph::Range::non_negative());
+    p.add("clamp_depth", p_.clamp_depth, "mm",
+          "fixed particles: 0, those labelled base; > 0, every particle within this distance of the base plane",
           sph::Range::non_negative());
     cardio::declare_parameters(p, p_.cavity_pressure);
     p.add("sample_interval", p_.sample_interval, "ms", "time between rows of cavities.csv and observers.csv",
@@ -390,11 +448,46 @@ class HeartScene final : public Scene {
     (void)p_.geometry.resolved(preset_spacing(p_.preset));
     if (p_.stimulus_duration >= p_.cycle_length)
       throw sph::ParameterError("parameter 'stimulus_duration' must be shorter than 'cycle_length'");
+    if (p_.stimulus_site == StimulusSite::box && !(p_.stimulus_box_min.array() < p_.stimulus_box_max.array()).all())
+      throw sph::ParameterError("parameter 'stimulus_box_min' must lie below 'stimulus_box_max' in x, y and z");
   }
 
   void run(RunContext& ctx) override;
 
  private:
+  /// The SPHinXsys heart case (test_3d_heart_electromechanics, ../shared/PARITY.md) in this scene's
+  /// parameters: its mesh (without the translation, so the boxes are in mesh coordinates: theirs
+  /// plus (53.5, 70, 32.5) mm), dp 2 mm with h = 1.15 dp, Aliev-Panfilov in its own units with
+  /// isotropic D = 0.8 and a splitting step of 0.5 h^2 / (3 D) = 1.102, their tension law
+  /// (100 k_a V with k_a = 1e-4 MPa = 10 kPa per unit of V, eps 0.1 to 1 switching at V = 0.8
+  /// with xi = 100), K = 495.8 kPa, the base clamped 4 mm deep, the stimulus box raised to V = 0.92
+  /// (here by a pulse of 0.92 per unit time for one time unit), and end time 100.
+  static std::vector<std::pair<std::string, std::string>> sphinxsys_preset() {
+    return {{"mesh", shared_mesh("biventricular_heart.stl").string()},
+            {"dp", "2"},
+            {"smoothing_length_ratio", "1.15"},
+            {"kernel", "wendland_c2"},
+            {"cell_model", "aliev_panfilov_dimensionless"},
+            {"diffusivity_fibre", "0.8"},
+            {"diffusivity_cross", "0.8"},
+            {"ep_time_step", "1.102"},
+            {"stimulus_site", "box"},
+            {"stimulus_box_min", "23.5,68,29.5"},
+            {"stimulus_box_max", "38.5,70,35.5"},
+            {"stimulus_strength", "0.92"},
+            {"stimulus_duration", "1"},
+            {"cycle_length", "100"},
+            {"k_a", "10"},
+            {"tension_threshold", "0.8"},
+            {"tension_rate_rest", "0.1"},
+            {"tension_rate_active", "1"},
+            {"tension_steepness", "100"},
+            {"bulk_modulus", "495.8"},
+            {"clamp_depth", "4"},
+            {"acoustic_cfl", "0.6"},
+            {"output_interval", "0"}};
+  }
+
   HeartParameters p_;
 };
 

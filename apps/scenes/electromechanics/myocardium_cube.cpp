@@ -21,7 +21,10 @@ namespace {
 using sph::Real;
 using Vec3 = sph::Vec<3>;
 
+enum class Preset { standard, sphinxsys };
+
 struct MyocardiumCubeParameters {
+  Preset preset = Preset::standard;
   long resolution = 25;        ///< particles across the unit cube
   double end_time = 3;
   double max_tension = 5;      ///< T_max at x = L
@@ -39,6 +42,22 @@ class MyocardiumCubeScene final : public Scene {
   MyocardiumCubeScene() { p_.numerics.discretisation.output_interval = 0.1; }
 
   void declare(sph::Parameters& p) override {
+    // The SPHinXsys case test_3d_muscle_activation (../shared/PARITY.md): its kernel (Wendland C2,
+    // h = 1.15 dp), its tension -15 X min(t, 1) (stretching), no damping, end time 1.2, no particle
+    // output between the first and last state.
+    p.add_preset<Preset>("preset", p_.preset,
+                         {{"default", Preset::standard},
+                          {"sphinxsys", Preset::sphinxsys,
+                           {{"resolution", "25"},
+                            {"end_time", "1.2"},
+                            {"max_tension", "-15"},
+                            {"ramp_time", "1"},
+                            {"damping_rate", "0"},
+                            {"kernel", "wendland_c2"},
+                            {"smoothing_length_ratio", "1.15"},
+                            {"acoustic_cfl", "0.6"},
+                            {"output_interval", "0"}}}},
+                         "default: this scene's settings; sphinxsys: the SPHinXsys muscle-activation case");
     p.add("resolution", p_.resolution, "-", "particles across the unit cube", sph::Range::closed(3, 200));
     p.add("end_time", p_.end_time, "-", "simulated time", sph::Range::positive());
     p.add("max_tension", p_.max_tension, "-", "T_max: active tension at x = 1 once ramped (> 0 contracts)", sph::Range::any());

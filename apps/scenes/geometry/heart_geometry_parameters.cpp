@@ -1,3 +1,4 @@
+#include <cstdlib>
 #include "apps/scenes/geometry/heart_geometry_parameters.hpp"
 
 #include <cmath>
@@ -14,6 +15,11 @@ void require_file(const std::string& key, const std::filesystem::path& path) {
 }  // namespace
 
 std::filesystem::path shipped_mesh(const std::string& file) { return std::filesystem::path(CARDIOSPH_MESH_DIR) / file; }
+
+std::filesystem::path shared_mesh(const std::string& file) {
+  if (const char* folder = std::getenv("CARDIOSPH_SHARED_MESHES"); folder && *folder) return std::filesystem::path(folder) / file;
+  return std::filesystem::path(CARDIOSPH_SHARED_MESH_DIR) / file;
+}
 
 void HeartGeometryParameters::declare(sph::Parameters& p) {
   auto& s = settings;

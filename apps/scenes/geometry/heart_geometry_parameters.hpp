@@ -13,6 +13,9 @@ namespace cardiosph {
 
 /// The shipped meshes (meshes/ of the source tree).
 std::filesystem::path shipped_mesh(const std::string& file);
+/// Third-party meshes that the project does not ship: $CARDIOSPH_SHARED_MESHES, else
+/// ../shared/meshes beside the source tree.
+std::filesystem::path shared_mesh(const std::string& file);
 
 /// The parameters of the geometry stage: the members of its settings (cardio::HeartGeometrySettings)
 /// bound directly, and the cache folder.
