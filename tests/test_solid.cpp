@@ -245,6 +245,45 @@ TEST(ElasticSolid, MassScalingLengthensTheStepAndKeepsTheEquilibrium) {
   EXPECT_LT(std::abs(sag_16 - sag_1), 1e-3 * std::abs(sag_1));
 }
 
+// The pair viscosity (artificial_viscosity) removes energy from a free, undamped vibration and
+// none from a rigid translation (it acts on x_ij . v_ij only): a block released from a uniform 2 %
+// stretch and left free for about 4 periods of its lowest mode keeps less than 0.8 times the energy
+// with eta = 0.25 that it keeps without (the energy sampled at the end of a coarse leapfrog run
+// moves between its kinetic and strain parts, so the undamped value is not 1: it is printed); a
+// uniform velocity is kept to round-off with the viscosity on.
+TEST(ElasticSolid, PairViscosityDampsVibrationsAndSparesRigidMotion) {
+  auto energy_kept = [](Real eta) {
+    auto block = make_block(6, false);
+    auto settings = neo_hookean_settings();
+    settings.numerics.artificial_viscosity = eta;
+    for (auto& x : block.body.position) x[0] *= Real(1.02);
+    sph::ElasticSolid<3> solid(block.body, block.relation, settings);
+    const double start = solid.energies().total();
+    Real t = 0;
+    while (t < 4 * 2.0 / std::sqrt(1e3)) {  // 4 periods of the lowest mode: about 2 L / c
+      const Real dt = solid.stable_time_step();
+      solid.advance(t, dt);
+      t += dt;
+    }
+    return solid.energies().total() / start;
+  };
+  const double plain = energy_kept(0), viscous = energy_kept(Real(0.25));
+  std::printf("energy kept after 4 periods: %.4f without the pair viscosity, %.4f with eta = 0.25\n", plain, viscous);
+  EXPECT_LT(viscous, 0.8 * plain);
+
+  auto block = make_block(4, false);
+  auto settings = neo_hookean_settings();
+  settings.numerics.artificial_viscosity = Real(0.25);
+  sph::ElasticSolid<3> solid(block.body, block.relation, settings);
+  auto v = block.body.field(solid.velocity_field());
+  for (auto& vi : v) vi = Vec3(1, -2, 0.5);
+  for (int step = 0; step < 20; ++step) solid.advance(Real(step) * Real(1e-3), Real(1e-3));
+  double drift = 0;
+  for (const auto& vi : v) drift = std::max(drift, double((vi - Vec3(1, -2, 0.5)).norm()));
+  std::printf("uniform velocity after 20 steps: largest change %.3e\n", drift);
+  EXPECT_LT(drift, test::bound(1e-12, 1e-5));
+}
+
 TEST(ElasticSolid, RejectsBadSettings) {
   auto block = make_block(4, false);
   auto settings = neo_hookean_settings();

@@ -100,6 +100,7 @@ void fill_relation(NeighbourList<Dim>& list, std::span<const Vec<Dim>> targets, 
 
   // Pass 2: fill each row in the same candidate order.
   const Real normalisation = Kernel::normalisation(h), inverse_h = Real(1) / h;
+  list.kernel_value_at_zero = normalisation * Kernel::shape(Real(0));
   const Real derivative_scale = normalisation * inverse_h;
   parallel_for(n, [&](std::size_t i) {
     std::size_t k = list.offsets[i];

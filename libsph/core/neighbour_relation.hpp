@@ -62,6 +62,7 @@ struct PeriodicBox {
 template <int Dim>
 struct NeighbourList {
   Real smoothing_length = 0;
+  Real kernel_value_at_zero = 0;       ///< W(0, h)
   std::vector<std::size_t> offsets;    ///< row i is [offsets[i], offsets[i+1])
   std::vector<Index> neighbour;        ///< source index j of each pair
   std::vector<Real> kernel_value;      ///< W(r_ij, h)

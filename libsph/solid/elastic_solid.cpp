@@ -14,6 +14,9 @@ namespace sph {
 void declare_parameters(Parameters& p, SolidNumerics& n, const std::string& time_unit) {
   p.add("hourglass_coefficient", n.hourglass_coefficient, "-",
         "alpha of the hourglass penalty force (Ganzenmueller 2015); 0 turns it off", Range::non_negative());
+  p.add("artificial_viscosity", n.artificial_viscosity, "-",
+        "eta of the pair viscosity (the numerical damping of SPHinXsys solids, 0.25 there); 0 turns it off",
+        Range::non_negative());
   p.add("acoustic_cfl", n.cfl, "-", "solid time step as a fraction of the acoustic limit", {0, 1, true, false});
   p.add("mass_scaling", n.mass_scaling, "-",
         "factor on the solid's inertia (density) for quasi-static runs: the acoustic step grows by its square root; "
@@ -43,6 +46,10 @@ ElasticSolid<Dim>::ElasticSolid(ParticleSet<Dim>& particles, const InnerRelation
   current_sound_speed_ = sound_speed_;
   if (settings_.numerics.stiffness_update_interval < 1) throw std::invalid_argument(body + ": stiffness update interval must be >= 1");
   hourglass_factor_ = settings_.numerics.hourglass_coefficient / 2 * young_modulus_estimate<Dim>(settings_.material);
+  if (!(settings_.numerics.artificial_viscosity >= 0)) throw std::invalid_argument(body + ": artificial viscosity must be >= 0");
+  if (settings_.numerics.artificial_viscosity > 0)
+    viscosity_factor_ = settings_.numerics.artificial_viscosity * settings_.density * settings_.numerics.mass_scaling * sound_speed_ *
+                        relation_.smoothing_length * Real(Dim * Dim) / (4 * relation_.kernel_value_at_zero);
 
   const std::size_t n = particles_.n_particles();
   reference_position_ = particles_.template register_field<Vec<Dim>>("reference_position", Vec<Dim>::Zero(), false);
@@ -251,7 +258,7 @@ void ElasticSolid<Dim>::update_current_sound_speed() {
 }
 
 template <int Dim>
-template <bool Hourglass>
+template <bool Hourglass, bool Viscous>
 Vec<Dim> ElasticSolid<Dim>::internal_force_of(std::size_t i, std::span<const Vec<Dim>> x, std::span<const Real> V,
                                               std::span<const Mat<Dim>> F, std::span<const Mat<Dim>> PB) const {
   // sum_j V_j (P_i B_i + P_j B_j) grad0 W_ij + alpha E / 2 sum_j V_j W_ij / |X_ij|^2 (delta_ij^i + delta_ij^j) x_ij / |x_ij|
@@ -259,7 +266,10 @@ Vec<Dim> ElasticSolid<Dim>::internal_force_of(std::size_t i, std::span<const Vec
   const auto& rel = relation_;
   const Vec<Dim> x_i = x[i];
   const Mat<Dim> F_i = F[i];
-  Vec<Dim> weighted_sum = Vec<Dim>::Zero(), stress_force = Vec<Dim>::Zero(), hourglass_force = Vec<Dim>::Zero();
+  Vec<Dim> weighted_sum = Vec<Dim>::Zero(), stress_force = Vec<Dim>::Zero(), hourglass_force = Vec<Dim>::Zero(),
+           viscous_force = Vec<Dim>::Zero();
+  const auto& v = previous_velocity_;  // the velocities at the start of the step (the field is being updated)
+  const Vec<Dim> v_i = v[i];
   for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
     const Index j = rel.neighbour[k];
     const PairGradient& g = pair_gradient_[k];
@@ -272,8 +282,13 @@ Vec<Dim> ElasticSolid<Dim>::internal_force_of(std::size_t i, std::span<const Vec
       const Real delta_r = ((F_i + F[j]) * X_ij - 2 * x_ij).dot(x_ij);  // (delta_i + delta_j) |x_ij|
       hourglass_force += (V[j] * Real(g.hourglass_weight) * delta_r / x_ij.squaredNorm()) * x_ij;
     }
+    if constexpr (Viscous) {  // W_ij / |X_ij|^2 (x_ij . v_ij) (F_i + F_j) V_j grad0 W_ij
+      const Real rate = Real(g.hourglass_weight) * (x_i - x[j]).dot(v_i - v[j]);
+      viscous_force.noalias() += rate * ((F_i + F[j]) * w);
+    }
   }
   stress_force.noalias() += PB[i] * weighted_sum;
+  if constexpr (Viscous) stress_force += viscosity_factor_ * viscous_force;
   if constexpr (Hourglass) return stress_force + hourglass_factor_ * hourglass_force;
   return stress_force;
 }
@@ -322,19 +337,23 @@ typename ElasticSolid<Dim>::StepCheck ElasticSolid<Dim>::accelerations(Real time
   const bool loads = !(pressure_loads_.empty() && force_loads_.empty() && traction_loads_.empty());
   const Vec<Dim> g = settings_.body_force * (1 / settings_.numerics.mass_scaling);
   const std::size_t n = particles_.n_particles();
-  auto run = [&]<bool Hourglass>() {
+  auto run = [&]<bool Hourglass, bool Viscous>() {
     return parallel_reduce(
         n, StepCheck{0, n},
         [&](std::size_t i) {
-          Vec<Dim> a_i = inverse_inertia_ * internal_force_of<Hourglass>(i, x, V, F, PB) + g;
+          Vec<Dim> a_i = inverse_inertia_ * internal_force_of<Hourglass, Viscous>(i, x, V, F, PB) + g;
           if (loads) a_i += load_acceleration_[i];
           const bool finite = finish(i, a_i);
           return StepCheck{finite ? a_i.norm() : Real(0), finite ? n : i};
         },
         [](const StepCheck& p, const StepCheck& q) { return StepCheck{std::max(p.max_acceleration, q.max_acceleration), std::min(p.first_bad, q.first_bad)}; });
   };
-  if (hourglass_factor_ > 0) return run.template operator()<true>();
-  return run.template operator()<false>();
+  if (viscosity_factor_ > 0) {
+    if (hourglass_factor_ > 0) return run.template operator()<true, true>();
+    return run.template operator()<false, true>();
+  }
+  if (hourglass_factor_ > 0) return run.template operator()<true, false>();
+  return run.template operator()<false, false>();
 }
 
 template <int Dim>

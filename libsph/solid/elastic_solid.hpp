@@ -32,6 +32,13 @@
 // exponential laws stiffen many times over at large strain, and a step sized by the small-strain
 // modulus alone then loses stability (measured on the inflated LV of Land et al. 2015).
 //
+// Pair viscosity (`artificial_viscosity` eta > 0; off by default): the numerical damping of the
+// SPHinXsys solids (Zhang, Hu et al.; its Integration1stHalf), a pair stress along the mean F,
+//   N_ij = eta (W_ij / W(0)) (F_i + F_j) / 2 * (rho0 s c h / 2) d^2 (x_ij . v_ij) / |X_ij|^2,
+// added to P_i B_i + P_j B_j in the pair force (d the dimension, v at the start of the step). It
+// damps the particle-scale motion that otherwise shrinks the acceleration-limited step in
+// undamped runs, and leaves the equilibria unchanged (it vanishes with the velocities).
+//
 // Active stress (Nash & Panfilov 2004, Prog. Biophys. Mol. Biol. 85:501), with Settings::active_stress:
 //   P = P_passive(F) + T_a F f0 (x) f0,   i.e. S = S_passive + T_a f0 (x) f0,
 // a tension T_a [stress] per particle along the reference fibre f0 (field "active_tension", set by
@@ -64,6 +71,7 @@ class Parameters;
 /// directly as parameters through declare_parameters.
 struct SolidNumerics {
   Real hourglass_coefficient = Real(0.1);  ///< alpha of the penalty force; 0 turns it off
+  Real artificial_viscosity = 0;           ///< eta of the pair viscosity; 0 turns it off
   Real cfl = Real(0.6);                    ///< fraction of the acoustic step, in (0, 1]
   Real fixed_time_step = 0;                ///< > 0 replaces the stable step (no stability guarantee)
   int stiffness_update_interval = 10;      ///< steps between updates of the current tangent modulus
@@ -72,7 +80,7 @@ struct SolidNumerics {
   Real mass_scaling = 1;
 };
 
-/// Declares hourglass_coefficient, acoustic_cfl, mass_scaling and fixed_time_step [time_unit].
+/// Declares hourglass_coefficient, artificial_viscosity, acoustic_cfl, mass_scaling and fixed_time_step [time_unit].
 void declare_parameters(Parameters& p, SolidNumerics& numerics, const std::string& time_unit);
 
 template <int Dim>
@@ -193,7 +201,7 @@ class ElasticSolid {
     return handle.valid() ? std::span<const Vec<Dim>>(particles_.field(handle)) : std::span<const Vec<Dim>>();
   }
   void update_current_sound_speed();
-  template <bool Hourglass>
+  template <bool Hourglass, bool Viscous>
   Vec<Dim> internal_force_of(std::size_t i, std::span<const Vec<Dim>> x, std::span<const Real> V,
                              std::span<const Mat<Dim>> F, std::span<const Mat<Dim>> PB) const;
   void compute_load_accelerations(Real time);
@@ -222,6 +230,7 @@ class ElasticSolid {
   std::vector<Eigen::Matrix<PairReal, Dim, 1>> pair_offset_;
   Real sound_speed_ = 0, current_sound_speed_ = 0;
   Real hourglass_factor_ = 0;  // alpha E / 2
+  Real viscosity_factor_ = 0;  // eta rho0 s c h d^2 / (4 W(0))
   Real inverse_inertia_ = 1;   // 1 / (rho0 s)
   std::size_t steps_ = 0;
   FieldHandle<Vec<Dim>> reference_position_, velocity_, acceleration_, displacement_, fiber_, sheet_;

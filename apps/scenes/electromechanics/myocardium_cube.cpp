@@ -43,8 +43,8 @@ class MyocardiumCubeScene final : public Scene {
 
   void declare(sph::Parameters& p) override {
     // The SPHinXsys case test_3d_muscle_activation (../shared/PARITY.md): its kernel (Wendland C2,
-    // h = 1.15 dp), its tension -15 X min(t, 1) (stretching), no damping, end time 1.2, no particle
-    // output between the first and last state.
+    // h = 1.15 dp), its tension -15 X min(t, 1) (stretching), no damping and no hourglass control,
+    // end time 1.2, no particle output between the first and last state.
     p.add_preset<Preset>("preset", p_.preset,
                          {{"default", Preset::standard},
                           {"sphinxsys", Preset::sphinxsys,
@@ -56,6 +56,8 @@ class MyocardiumCubeScene final : public Scene {
                             {"kernel", "wendland_c2"},
                             {"smoothing_length_ratio", "1.15"},
                             {"acoustic_cfl", "0.6"},
+                            {"hourglass_coefficient", "0"},
+                            {"artificial_viscosity", "0.25"},
                             {"output_interval", "0"}}}},
                          "default: this scene's settings; sphinxsys: the SPHinXsys muscle-activation case");
     p.add("resolution", p_.resolution, "-", "particles across the unit cube", sph::Range::closed(3, 200));
