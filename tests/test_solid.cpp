@@ -284,6 +284,36 @@ TEST(ElasticSolid, PairViscosityDampsVibrationsAndSparesRigidMotion) {
   EXPECT_LT(drift, test::bound(1e-12, 1e-5));
 }
 
+// The sound speed of the acoustic step follows the tangent modulus as an exponential law stiffens
+// (the default), and stays at the small-strain one with tangent_time_step = false: a block of the
+// isotropic Holzapfel-Ogden law (a = 1, b = 8, K = 10) stretched uniformly by 40 % along x after
+// its reference was taken.
+TEST(ElasticSolid, TangentTimeStepFollowsTheStiffening) {
+  auto sound_speed_after_stretch = [](bool tangent) {
+    auto block = make_block(5, false);
+    sph::ElasticSolid<3>::Settings settings;
+    sph::HolzapfelOgden<3> law;
+    law.a = 1;
+    law.b = 8;
+    law.bulk_modulus = 10;
+    settings.material = law;
+    settings.density = 1;
+    settings.numerics.hourglass_coefficient = 0;
+    settings.numerics.tangent_time_step = tangent;
+    sph::ElasticSolid<3> solid(block.body, block.relation, settings);
+    for (auto& x : block.body.position) x[0] *= Real(1.4);
+    solid.advance(0, Real(1e-6));
+    return std::pair{solid.sound_speed(), solid.current_sound_speed()};
+  };
+  const auto [small_strain, tangent] = sound_speed_after_stretch(true);
+  const auto [small_strain_off, kept] = sound_speed_after_stretch(false);
+  std::printf("sound speed at 40 %% stretch: %.4f (tangent modulus), %.4f (small-strain modulus, kept: %.4f)\n",
+              double(tangent), double(small_strain), double(kept));
+  EXPECT_GT(tangent, 2 * small_strain);
+  EXPECT_EQ(kept, small_strain_off);
+  EXPECT_EQ(small_strain, small_strain_off);
+}
+
 TEST(ElasticSolid, RejectsBadSettings) {
   auto block = make_block(4, false);
   auto settings = neo_hookean_settings();

@@ -18,6 +18,9 @@ void declare_parameters(Parameters& p, SolidNumerics& n, const std::string& time
         "eta of the pair viscosity (the numerical damping of SPHinXsys solids, 0.25 there); 0 turns it off",
         Range::non_negative());
   p.add("acoustic_cfl", n.cfl, "-", "solid time step as a fraction of the acoustic limit", {0, 1, true, false});
+  p.add("tangent_time_step", n.tangent_time_step,
+        "size the acoustic step by the largest current tangent modulus (stable as exponential laws stiffen); false: "
+        "by the small-strain modulus only, as SPHinXsys (fewer steps, no guarantee at large strain)");
   p.add("mass_scaling", n.mass_scaling, "-",
         "factor on the solid's inertia (density) for quasi-static runs: the acoustic step grows by its square root; "
         "1 = physical inertia", Range::closed(1, 1e6));
@@ -417,7 +420,9 @@ void ElasticSolid<Dim>::advance(Real time, Real dt) {
     const Real J = particles_.field(deformation_gradient_)[bad].determinant();
     fail(bad, time + half, "deformation gradient", std::isfinite(J) ? "has J = " + std::to_string(J) + " <= 0 (inverted)" : "is not finite");
   }
-  if (steps_++ % static_cast<std::size_t>(settings_.numerics.stiffness_update_interval) == 0) update_current_sound_speed();
+  if (steps_++ % static_cast<std::size_t>(settings_.numerics.stiffness_update_interval) == 0 &&
+      settings_.numerics.tangent_time_step)
+    update_current_sound_speed();
 
   const Real damping = 1 / (1 + settings_.damping_rate * dt);
   const StepCheck check = accelerations(time + half, [&](std::size_t i, const Vec<Dim>& a_i) {

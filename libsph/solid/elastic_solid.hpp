@@ -31,6 +31,8 @@
 // axes e = x, y, z and the fibre, by finite differences every `stiffness_update_interval` steps: the
 // exponential laws stiffen many times over at large strain, and a step sized by the small-strain
 // modulus alone then loses stability (measured on the inflated LV of Land et al. 2015).
+// `tangent_time_step = false` keeps M at the small-strain modulus (the rule of SPHinXsys, whose
+// c0 = sqrt(K / rho0) is fixed): fewer steps where the strains stay moderate, without that guarantee.
 //
 // Pair viscosity (`artificial_viscosity` eta > 0; off by default): the numerical damping of the
 // SPHinXsys solids (Zhang, Hu et al.; its Integration1stHalf), a pair stress along the mean F,
@@ -75,12 +77,14 @@ struct SolidNumerics {
   Real cfl = Real(0.6);                    ///< fraction of the acoustic step, in (0, 1]
   Real fixed_time_step = 0;                ///< > 0 replaces the stable step (no stability guarantee)
   int stiffness_update_interval = 10;      ///< steps between updates of the current tangent modulus
+  bool tangent_time_step = true;           ///< false: size the step by the small-strain modulus only
   /// s >= 1: the inertia is rho0 s (loads and body force keep their physical size), for quasi-static
   /// problems where inertia only slows the approach to equilibrium; the acoustic step grows by sqrt(s).
   Real mass_scaling = 1;
 };
 
-/// Declares hourglass_coefficient, artificial_viscosity, acoustic_cfl, mass_scaling and fixed_time_step [time_unit].
+/// Declares hourglass_coefficient, artificial_viscosity, acoustic_cfl, tangent_time_step, mass_scaling and
+/// fixed_time_step [time_unit].
 void declare_parameters(Parameters& p, SolidNumerics& numerics, const std::string& time_unit);
 
 template <int Dim>

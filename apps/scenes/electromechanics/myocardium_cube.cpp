@@ -43,8 +43,9 @@ class MyocardiumCubeScene final : public Scene {
 
   void declare(sph::Parameters& p) override {
     // The SPHinXsys case test_3d_muscle_activation (../shared/PARITY.md): its kernel (Wendland C2,
-    // h = 1.15 dp), its tension -15 X min(t, 1) (stretching), no damping and no hourglass control,
-    // end time 1.2, no particle output between the first and last state.
+    // h = 1.15 dp), its tension -15 X min(t, 1) (stretching), no damping, its solid scheme (no
+    // hourglass control, pair viscosity 0.25, the acoustic step of the small-strain modulus), end
+    // time 1.2, no particle output between the first and last state.
     p.add_preset<Preset>("preset", p_.preset,
                          {{"default", Preset::standard},
                           {"sphinxsys", Preset::sphinxsys,
@@ -58,6 +59,7 @@ class MyocardiumCubeScene final : public Scene {
                             {"acoustic_cfl", "0.6"},
                             {"hourglass_coefficient", "0"},
                             {"artificial_viscosity", "0.25"},
+                            {"tangent_time_step", "false"},
                             {"output_interval", "0"}}}},
                          "default: this scene's settings; sphinxsys: the SPHinXsys muscle-activation case");
     p.add("resolution", p_.resolution, "-", "particles across the unit cube", sph::Range::closed(3, 200));
