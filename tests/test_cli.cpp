@@ -8,9 +8,11 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "apps/cli.hpp"
+#include "temporary_folder.hpp"
 
 namespace {
 
@@ -19,11 +21,10 @@ namespace fs = std::filesystem;
 class Cli : public ::testing::Test {
  protected:
   void SetUp() override {
-    folder_ = fs::temp_directory_path() / ("cardiosph_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(folder_);
-    fs::create_directories(folder_);
+    scratch_ = std::make_unique<test::TemporaryFolder>("cli");
+    folder_ = scratch_->path();
   }
-  void TearDown() override { fs::remove_all(folder_); }
+  void TearDown() override { scratch_.reset(); }
 
   int run(std::vector<std::string> args) {
     args.insert(args.begin(), "cardiosph");
@@ -51,6 +52,7 @@ class Cli : public ::testing::Test {
     return folder_ / name;
   }
 
+  std::unique_ptr<test::TemporaryFolder> scratch_;
   fs::path folder_;
   std::string stdout_, stderr_;
 };

@@ -10,18 +10,13 @@
 #include "cardio/heart_geometry.hpp"
 #include "cardio/surface_labels.hpp"
 #include "geometry/heart_meshes.hpp"
+#include "temporary_folder.hpp"
 
 namespace {
 
 using geometry::Vec3;
 namespace fs = std::filesystem;
 
-fs::path scratch(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("cardiosph_test_fibres_" + name);
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
-}
 
 // Fraction of faces whose rule label equals the label of the generator's region.
 double agreement(const geometry::TriangleMesh& mesh, const cardio::FaceLabels& rule) {
@@ -71,7 +66,7 @@ TEST(Fibres, HelixAngleAndUniformField) {
 }
 
 TEST(Fibres, FileFibresMapToTheNearestPoint) {
-  const auto folder = scratch("file");
+  const test::TemporaryFolder folder("fibres");
   {
     std::ofstream f(folder / "fibres.txt");
     f << "# x y z fx fy fz\n0 0 0 1 0 0\n10, 0, 0, 0, 2, 0\n0 10 0 0 0 1 1 0 0\n";
@@ -99,8 +94,8 @@ TEST(Fibres, FileFibresMapToTheNearestPoint) {
 // The whole stage on a coarse LV: labels, LDRB fibres within a loose bound at this coarse spacing
 // (the 3-degree bound at the default spacing is a validation test), then the cache.
 TEST(HeartGeometry, CoarseLvStageAndCache) {
-  const auto folder = scratch("stage");
-  geometry::write_heart_mesh_files(geometry::lv_ellipsoid_mesh(geometry::LvEllipsoid{}, 1.0), folder, "lv");
+  const test::TemporaryFolder folder("fibres");
+  geometry::write_heart_mesh_files(geometry::lv_ellipsoid_mesh(geometry::LvEllipsoid{}, 1.0), folder.path(), "lv");
   cardio::HeartGeometrySettings settings;
   settings.mesh = folder / "lv.stl";
   settings.spacing = 1.0;
@@ -133,7 +128,7 @@ TEST(HeartGeometry, CoarseLvStageAndCache) {
   settings.ldrb.alpha_endo_deg = 50;
   EXPECT_FALSE(cardio::prepare_heart_geometry(settings, folder / "cache").from_cache);
   settings.ldrb.alpha_endo_deg = 60;
-  geometry::write_heart_mesh_files(geometry::lv_ellipsoid_mesh(geometry::LvEllipsoid{}, 0.9), folder, "lv");
+  geometry::write_heart_mesh_files(geometry::lv_ellipsoid_mesh(geometry::LvEllipsoid{}, 0.9), folder.path(), "lv");
   EXPECT_FALSE(cardio::prepare_heart_geometry(settings, folder / "cache").from_cache);
 }
 

@@ -16,6 +16,7 @@
 #include <utility>
 
 #include "geometry/heart_meshes.hpp"
+#include "temporary_folder.hpp"
 
 namespace {
 
@@ -265,19 +266,18 @@ TEST(HeartMeshes, BiventricularMeshIsValidWithFourRegions) {
   EXPECT_NEAR(volume / analytic, 1, 0.02);
 
   // The binary STL stores floats: the rounded mesh read back is still valid.
-  const fs::path folder = fs::temp_directory_path() / "cardiosph_test_heart_meshes_biv";
-  fs::remove_all(folder);
+  const test::TemporaryFolder scratch("heart_meshes");
+  const fs::path folder = scratch / "biv";
   const auto files = geometry::write_heart_mesh_files(mesh, folder, "biv");
   EXPECT_EQ(files.size(), 6u);
   const geometry::MeshCheckReport read_back = geometry::check_mesh(geometry::read_mesh(folder / "biv.stl"));
   EXPECT_TRUE(read_back.ok()) << read_back.problems();
   EXPECT_EQ(read_back.faces, mesh.faces.size());
-  fs::remove_all(folder);
 }
 
 TEST(HeartMeshes, WritesTheClosedMeshAndOneFilePerRegion) {
-  const fs::path folder = fs::temp_directory_path() / "cardiosph_test_heart_meshes_lv" / "out";
-  fs::remove_all(folder.parent_path());
+  const test::TemporaryFolder scratch("heart_meshes");
+  const fs::path folder = scratch / "out";
   const TriangleMesh mesh = geometry::lv_ellipsoid_mesh(geometry::LvEllipsoid{}, 3.0);
   const auto files = geometry::write_heart_mesh_files(mesh, folder, "lv");
   ASSERT_EQ(files.size(), 5u);
@@ -302,7 +302,6 @@ TEST(HeartMeshes, WritesTheClosedMeshAndOneFilePerRegion) {
     EXPECT_EQ(region_faces(back, name), region_faces(mesh, name)) << name;
   }
   EXPECT_TRUE(geometry::check_mesh(geometry::read_mesh(folder / "lv.stl")).ok());
-  fs::remove_all(folder.parent_path());
 }
 
 }  // namespace

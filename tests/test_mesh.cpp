@@ -22,6 +22,7 @@
 
 #include "geometry/mesh.hpp"
 #include "libsph/core/parallel.hpp"
+#include "temporary_folder.hpp"
 
 namespace {
 
@@ -61,27 +62,7 @@ TriangleMesh without_faces(TriangleMesh mesh, std::vector<std::size_t> faces) {
   return mesh;
 }
 
-// A fresh folder per test and process (other runs of unit_tests may share the machine), removed
-// at the end of the test.
-class TemporaryFolder {
- public:
-  TemporaryFolder()
-      : path_(fs::temp_directory_path() / ("cardiosph_test_mesh_" + std::to_string(::getpid()) + "_" +
-                                           ::testing::UnitTest::GetInstance()->current_test_info()->name())) {
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TemporaryFolder() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  TemporaryFolder(const TemporaryFolder&) = delete;
-  TemporaryFolder& operator=(const TemporaryFolder&) = delete;
-  fs::path operator/(const std::string& name) const { return path_ / name; }
-
- private:
-  fs::path path_;
-};
+using test::TemporaryFolder;
 
 void write_text(const fs::path& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);

@@ -142,8 +142,8 @@ TEST(SolidStability, HolzapfelOgdenCompressionToHalfLength) {
 // A time step far above the acoustic limit: the run stops with a diagnostic naming the body,
 // particle, position and time, writes the last good state, reports status "failed" and exits 1.
 TEST(SolidStability, TooLargeTimeStepIsDetected) {
-  const fs::path out = fs::temp_directory_path() / "cardiosph_solid_blowup";
-  fs::remove_all(out);
+  const test::TemporaryFolder scratch("solid_blowup");
+  const fs::path out = scratch / "out";
   cardiosph::CommonOptions options;
   options.output = out;
   options.quiet = true;
@@ -159,7 +159,6 @@ TEST(SolidStability, TooLargeTimeStepIsDetected) {
   EXPECT_TRUE(fs::exists(out / "report.json"));
   EXPECT_TRUE(fs::exists(out / "beam.pvd"));
   EXPECT_TRUE(fs::exists(out / "beam_00001.vtu"));  // the last good state after the initial one
-  fs::remove_all(out);
 }
 
 }  // namespace
