@@ -63,6 +63,14 @@ concept HasOwnRbrQssStep = requires(const M& model, typename M::State& y, double
   model.rbr_qss_step(y, stimulus, dt);
 };
 
+/// A model may also do its rbr_qss step for lane_count cells at once (lanes.hpp); the particle loops
+/// of ReactionSystem then use it.
+template <class M>
+concept HasLanesRbrQssStep =
+    requires(const M& model, std::array<Lanes, M::n_states>& y, const Lanes& stimulus, double dt) {
+      model.rbr_qss_step(y, stimulus, dt);
+    };
+
 template <ReactionModel M>
 void advance_cell(const M& model, typename M::State& y, double stimulus, double dt, ReactionScheme scheme) {
   constexpr std::size_t n = M::n_states;

@@ -34,14 +34,20 @@
 #include <concepts>
 #include <cstddef>
 #include <string_view>
+#include <type_traits>
+
+#include "libsph/reaction/lanes.hpp"
 
 namespace sph {
 
-/// dy/dt = production - loss * y for one state variable, with loss >= 0.
-struct ProductionLoss {
-  double production = 0;
-  double loss = 0;
+/// dy/dt = production - loss * y for one state variable, with loss >= 0; T is double for one cell
+/// or Lanes for several (lanes.hpp).
+template <class T>
+struct BasicProductionLoss {
+  T production{};
+  T loss{};
 };
+using ProductionLoss = BasicProductionLoss<double>;
 
 /// The range of V [voltage unit of the model] in which the model's equations are meaningful.
 struct VoltageRange {
@@ -63,29 +69,53 @@ concept ReactionModel = requires(const M& model, const typename M::State& y, dou
 /// The QSS (exponential) update of one variable over dt with frozen production q and loss p, with
 /// the exponential computed once so that several variables or sweeps sharing (q, p, dt) reuse it:
 /// QssStep(r, dt).apply(y) equals qss_update(y, r, dt) bit for bit.
-struct QssStep {
-  // For small p dt, y + (q - p y) (1 - exp(-p dt)) / p with expm1 keeps its digits (it tends to the
-  // forward-Euler step); for large p dt, the equilibrium form keeps the relative accuracy of the
-  // small remainder (y - q/p) exp(-p dt).
-  QssStep(ProductionLoss r, double dt) : rate(r) {
-    const double pdt = r.loss * dt;
-    relaxed = pdt > 0.5;
-    if (relaxed) {
-      equilibrium = r.production / r.loss;
-      decay = std::exp(-pdt);
+///
+/// For small p dt, y + (q - p y) (1 - exp(-p dt)) / p with expm1 keeps its digits (it tends to the
+/// forward-Euler step); for large p dt, the equilibrium form keeps the relative accuracy of the
+/// small remainder (y - q/p) exp(-p dt). For lanes, each lane takes the form its own p dt selects.
+template <class T>
+struct BasicQssStep {
+  BasicQssStep(BasicProductionLoss<T> r, double dt) : rate(r) {
+    if constexpr (std::same_as<T, double>) {
+      const double pdt = r.loss * dt;
+      relaxed = pdt > 0.5;
+      if (relaxed) {
+        equilibrium = r.production / r.loss;
+        decay = std::exp(-pdt);
+      } else {
+        factor = r.loss > 0 ? -std::expm1(-pdt) / r.loss : dt;
+      }
     } else {
-      factor = r.loss > 0 ? -std::expm1(-pdt) / r.loss : dt;
+      // Each form is evaluated only if a lane takes it.
+      const T pdt = r.loss * dt;
+      relaxed = pdt > 0.5;
+      // Each form is evaluated only if a lane takes it (Eigen's select() is not vectorised).
+      if (relaxed.any()) {
+        equilibrium = r.production / r.loss;  // not finite where p = 0: those lanes are not relaxed
+        decay = (-pdt).exp();
+      }
+      if (!relaxed.all()) {
+        factor = pick((r.loss > 0).eval(), [&]() -> T { return -exp_minus_one(-pdt) / r.loss; },
+                      [&]() -> T { return T::Constant(dt); });
+      }
     }
   }
-  double apply(double y) const {
-    if (relaxed) return equilibrium + (y - equilibrium) * decay;
-    return y + (rate.production - rate.loss * y) * factor;
+  T apply(const T& y) const {
+    if constexpr (std::same_as<T, double>) {
+      if (relaxed) return equilibrium + (y - equilibrium) * decay;
+      return y + (rate.production - rate.loss * y) * factor;
+    } else {
+      return pick(
+          relaxed, [&]() -> T { return equilibrium + (y - equilibrium) * decay; },
+          [&]() -> T { return y + (rate.production - rate.loss * y) * factor; });
+    }
   }
 
-  ProductionLoss rate;
-  bool relaxed = false;
-  double equilibrium = 0, decay = 0, factor = 0;
+  BasicProductionLoss<T> rate;
+  std::conditional_t<std::same_as<T, double>, bool, Eigen::Array<bool, lane_count, 1>> relaxed{};
+  T equilibrium{}, decay{}, factor{};
 };
+using QssStep = BasicQssStep<double>;
 
 inline double qss_update(double y, ProductionLoss r, double dt) { return QssStep(r, dt).apply(y); }
 
@@ -94,6 +124,11 @@ inline double qss_update(double y, ProductionLoss r, double dt) { return QssStep
 inline ProductionLoss with_nonnegative_loss(ProductionLoss r, double y) {
   if (r.loss >= 0) return r;
   return {r.production - r.loss * y, 0};
+}
+inline BasicProductionLoss<Lanes> with_nonnegative_loss(const BasicProductionLoss<Lanes>& r, const Lanes& y) {
+  const Eigen::Array<bool, lane_count, 1> negative = r.loss < 0;
+  if (!negative.any()) return r;
+  return {negative.select(r.production - r.loss * y, r.production), negative.select(0.0, r.loss)};
 }
 
 /// The scaling that turns a dimensionless model (potential u, time tau) into physical units:

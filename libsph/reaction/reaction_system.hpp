@@ -2,10 +2,12 @@
 // A cell model at every particle of a particle set. The transmembrane potential is the field
 // "transmembrane_potential" (shared with the diffusion of the monodomain); every other state
 // variable is a field named after it (written to output only on request). One step advances each
-// particle's cell independently with the chosen scheme (cell_integrators.hpp), then checks the
+// particle's cell independently with the chosen scheme (cell_integrators.hpp; a model with a step in
+// SIMD lanes, lanes.hpp, takes rbr_qss steps eight particles at a time), then checks the
 // state: a non-finite value or a potential outside the model's valid range stops the run with a
 // NumericalFailure naming the particle, its position, the time and the value.
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <span>
@@ -48,6 +50,13 @@ class ReactionSystem {
     std::array<std::span<Real>, n_states> columns;
     for (std::size_t k = 0; k < n_states; ++k) columns[k] = particles_.field(fields_[k]);
     const std::size_t n = particles_.n_particles();
+    if constexpr (HasLanesRbrQssStep<M>) {
+      if (settings_.scheme == ReactionScheme::rbr_qss) {
+        advance_in_lanes(columns, stimulus, double(dt));
+        check(columns, time + dt);
+        return;
+      }
+    }
     parallel_for(n, [&](std::size_t i) {
       typename M::State y;
       for (std::size_t k = 0; k < n_states; ++k) y[k] = columns[k][i];
@@ -58,6 +67,29 @@ class ReactionSystem {
   }
 
  private:
+  /// The cells in blocks of lane_count consecutive particles, the blocks fixed by the particle index
+  /// (so that every thread count gives the same blocks); the last block is filled up with copies of
+  /// its last particle, whose results are dropped.
+  void advance_in_lanes(const std::array<std::span<Real>, n_states>& columns, std::span<const Real> stimulus,
+                        double dt) const {
+    const std::size_t n = particles_.n_particles();
+    const std::size_t blocks = (n + lane_count - 1) / lane_count;
+    parallel_for(blocks, [&](std::size_t b) {
+      const std::size_t first = b * lane_count;
+      const std::size_t count = std::min<std::size_t>(lane_count, n - first);
+      std::array<Lanes, n_states> y;
+      Lanes s = Lanes::Zero();
+      for (int l = 0; l < lane_count; ++l) {
+        const std::size_t i = first + std::min<std::size_t>(static_cast<std::size_t>(l), count - 1);
+        for (std::size_t k = 0; k < n_states; ++k) y[k][l] = columns[k][i];
+        if (!stimulus.empty()) s[l] = stimulus[i];
+      }
+      model_.rbr_qss_step(y, s, dt);
+      for (std::size_t l = 0; l < count; ++l)
+        for (std::size_t k = 0; k < n_states; ++k) columns[k][first + l] = static_cast<Real>(y[k][static_cast<int>(l)]);
+    });
+  }
+
   void check(const std::array<std::span<Real>, n_states>& columns, Real time) const {
     const std::size_t n = particles_.n_particles();
     const VoltageRange range = model_.valid_voltage();

@@ -164,80 +164,124 @@ class TenTusscherPanfilov2006 {
   /// tau: most of the exponentials of the model) and QSS factors are computed once per step.
   void rbr_qss_step(State& y, double stimulus, double dt) const;
 
+  /// The same step for lane_count cells at once (lanes.hpp): the scalar step's arithmetic in every
+  /// lane, with vectorised elementary functions.
+  using LaneState = std::array<Lanes, n_states>;
+  void rbr_qss_step(LaneState& y, const Lanes& stimulus, double dt) const;
+
   /// [-200, 200] mV: every exponential in the model stays far from overflow there (arguments below
   /// about 50), and a cell never leaves about [-95, +50] mV, so a state outside this range has gone
   /// wrong.
   VoltageRange valid_voltage() const { return {-200, 200}; }
 
  private:
+  // The equations are written once for a number type T: double for one cell, Lanes for several.
+  template <class T>
+  using StateOf = std::array<T, n_states>;
+
   /// A current or flux together with the coefficient c of its part c y that is proportional to the
   /// variable y being updated (c >= 0 for a term that removes y).
+  template <class T>
   struct Split {
-    double value = 0;
-    double coefficient = 0;
+    T value;
+    T coefficient;
   };
   /// The rate of one variable and its loss (the production is rate + loss y).
+  template <class T>
   struct RateAndLoss {
-    double rate = 0;
-    double loss = 0;
+    T rate;
+    T loss;
   };
+  template <class T>
   struct GateKinetics {
-    double steady_state = 0;   ///< x_inf [1]
-    double time_constant = 1;  ///< tau [ms]
+    T steady_state;   ///< x_inf [1]
+    T time_constant;  ///< tau [ms]
   };
   /// The K+ currents [pA/pF] and the sum of their chord conductances [nS/pF].
+  template <class T>
   struct PotassiumCurrents {
-    double I_K1 = 0, I_to = 0, I_Kr = 0, I_Ks = 0, I_pK = 0;
-    double conductance = 0;
+    T I_K1, I_to, I_Kr, I_Ks, I_pK;
+    T conductance;
   };
   /// The Na+ channel currents [pA/pF] and the sum of their chord conductances [nS/pF].
+  template <class T>
   struct SodiumCurrents {
-    double I_Na = 0, I_bNa = 0;
-    double conductance = 0;
+    T I_Na, I_bNa;
+    T conductance;
   };
   /// All sarcolemmal currents [pA/pF]; `linear_conductance` [nS/pF] is the sum of the chord
   /// conductances of the currents that are ohmic in V.
+  template <class T>
   struct MembraneCurrents {
-    PotassiumCurrents K;
-    SodiumCurrents Na;
-    double I_bCa = 0, I_NaK = 0;
-    Split I_CaL;   ///< coefficient: of Ca_ss
-    Split I_NaCa;  ///< coefficient: of Ca_i
-    Split I_pCa;   ///< coefficient: of Ca_i
-    double linear_conductance = 0;
+    PotassiumCurrents<T> K;
+    SodiumCurrents<T> Na;
+    T I_bCa, I_NaK;
+    Split<T> I_CaL;   ///< coefficient: of Ca_ss
+    Split<T> I_NaCa;  ///< coefficient: of Ca_i
+    Split<T> I_pCa;   ///< coefficient: of Ca_i
+    T linear_conductance;
   };
 
-  GateKinetics gate_kinetics(std::size_t k, double V, double Ca_ss) const;
+  template <class T>
+  BasicProductionLoss<T> production_loss_of(std::size_t k, const StateOf<T>& y, const T& stimulus) const;
+  template <class T>
+  void rbr_qss_step_of(StateOf<T>& y, const T& stimulus, double dt) const;
+
+  template <class T>
+  GateKinetics<T> gate_kinetics(std::size_t k, const T& V, const T& Ca_ss) const;
 
   // Reversal potentials [mV].
-  double reversal_potential_Na(double Na_i) const;
-  double reversal_potential_K(double K_i) const;
-  double reversal_potential_Ks(double K_i, double Na_i) const;
-  double reversal_potential_Ca(double Ca_i) const;
+  template <class T>
+  T reversal_potential_Na(const T& Na_i) const;
+  template <class T>
+  T reversal_potential_K(const T& K_i) const;
+  template <class T>
+  T reversal_potential_Ks(const T& K_i, const T& Na_i) const;
+  template <class T>
+  T reversal_potential_Ca(const T& Ca_i) const;
 
   // Currents [pA/pF].
-  MembraneCurrents membrane_currents(const State& y) const;
-  PotassiumCurrents potassium_currents(const State& y) const;
-  SodiumCurrents sodium_currents(const State& y) const;
-  double background_calcium(double V, double Ca_i) const;
-  Split l_type_calcium(const State& y) const;
-  Split sodium_calcium_exchange(double V, double Na_i, double Ca_i) const;
-  Split calcium_pump(double Ca_i) const;
-  double sodium_potassium_pump(double V, double Na_i) const;
+  template <class T>
+  MembraneCurrents<T> membrane_currents(const StateOf<T>& y) const;
+  template <class T>
+  PotassiumCurrents<T> potassium_currents(const StateOf<T>& y) const;
+  template <class T>
+  SodiumCurrents<T> sodium_currents(const StateOf<T>& y) const;
+  template <class T>
+  T background_calcium(const T& V, const T& Ca_i) const;
+  template <class T>
+  Split<T> l_type_calcium(const StateOf<T>& y) const;
+  template <class T>
+  Split<T> sodium_calcium_exchange(const T& V, const T& Na_i, const T& Ca_i) const;
+  template <class T>
+  Split<T> calcium_pump(const T& Ca_i) const;
+  template <class T>
+  T sodium_potassium_pump(const T& V, const T& Na_i) const;
 
   // SR fluxes [mM/ms] and the RyR.
-  Split uptake(double Ca_i) const;
-  double casr_dependence(double Ca_SR) const;
-  double ryanodine_open_probability(const State& y) const;
+  template <class T>
+  Split<T> uptake(const T& Ca_i) const;
+  template <class T>
+  T casr_dependence(const T& Ca_SR) const;
+  template <class T>
+  T ryanodine_open_probability(const StateOf<T>& y) const;
 
   // Rates of the non-gate variables from their currents and fluxes.
-  RateAndLoss potential_rate(const MembraneCurrents& I, double stimulus) const;
-  RateAndLoss calcium_intracellular_rate(const State& y, double I_bCa, Split I_NaCa, Split I_pCa, Split J_up) const;
-  RateAndLoss calcium_subspace_rate(const State& y, Split I_CaL, double open_probability) const;
-  RateAndLoss calcium_sr_rate(const State& y, double J_up, double open_probability) const;
-  RateAndLoss ryanodine_rate(const State& y) const;
-  double sodium_rate(const SodiumCurrents& I_Na, double I_NaK, double I_NaCa) const;
-  double potassium_rate(const PotassiumCurrents& I_K, double I_NaK, double stimulus) const;
+  template <class T>
+  RateAndLoss<T> potential_rate(const MembraneCurrents<T>& I, const T& stimulus) const;
+  template <class T>
+  RateAndLoss<T> calcium_intracellular_rate(const StateOf<T>& y, const T& I_bCa, const Split<T>& I_NaCa,
+                                            const Split<T>& I_pCa, const Split<T>& J_up) const;
+  template <class T>
+  RateAndLoss<T> calcium_subspace_rate(const StateOf<T>& y, const Split<T>& I_CaL, const T& open_probability) const;
+  template <class T>
+  RateAndLoss<T> calcium_sr_rate(const StateOf<T>& y, const T& J_up, const T& open_probability) const;
+  template <class T>
+  RateAndLoss<T> ryanodine_rate(const StateOf<T>& y) const;
+  template <class T>
+  T sodium_rate(const SodiumCurrents<T>& I_Na, const T& I_NaK, const T& I_NaCa) const;
+  template <class T>
+  T potassium_rate(const PotassiumCurrents<T>& I_K, const T& I_NaK, const T& stimulus) const;
 
   Parameters p_;
   double RT_over_F_ = 0;          ///< [mV]
