@@ -47,14 +47,20 @@ class AlievPanfilov {
   State initial_state() const { return {p_.scaling.to_V(0), 0}; }
 
   ProductionLoss production_loss(std::size_t k, const State& y, double stimulus) const {
-    const double u = p_.scaling.to_u(y[0]), v = y[1];
+    return production_loss_of<double>(k, y, stimulus);
+  }
+  /// The same for one cell (T = double) or several (T = Lanes, lanes.hpp).
+  template <class T>
+  BasicProductionLoss<T> production_loss_of(std::size_t k, const std::array<T, n_states>& y, const T& stimulus) const {
+    const T u = p_.scaling.to_u(y[0]);
+    const T& v = y[1];
     if (k == 0) {
-      const ProductionLoss r{p_.k * (p_.a + 1) * u * u + p_.scaling.stimulus_to_u(stimulus),
-                             p_.k * p_.a + p_.k * u * u + v};
+      const BasicProductionLoss<T> r{p_.k * (p_.a + 1) * u * u + p_.scaling.stimulus_to_u(stimulus),
+                                     p_.k * p_.a + p_.k * u * u + v};
       return p_.scaling.potential(with_nonnegative_loss(r, u));
     }
-    const double eps = epsilon(u, v);
-    const ProductionLoss r{-eps * p_.k * u * (u - p_.b - 1), eps};
+    const T eps = epsilon(u, v);
+    const BasicProductionLoss<T> r{-eps * p_.k * u * (u - p_.b - 1), eps};
     return p_.scaling.other(with_nonnegative_loss(r, v));
   }
 
@@ -69,7 +75,10 @@ class AlievPanfilov {
   VoltageRange valid_voltage() const { return range_of_u(-1, 3); }
 
  private:
-  double epsilon(double u, double v) const { return p_.epsilon0 + p_.mu1 * v / (u + p_.mu2); }
+  template <class T>
+  T epsilon(const T& u, const T& v) const {
+    return p_.epsilon0 + p_.mu1 * v / (u + p_.mu2);
+  }
   VoltageRange range_of_u(double lo, double hi) const {
     const double a = p_.scaling.to_V(lo), b = p_.scaling.to_V(hi);
     return {std::min(a, b), std::max(a, b)};

@@ -63,13 +63,42 @@ concept HasOwnRbrQssStep = requires(const M& model, typename M::State& y, double
   model.rbr_qss_step(y, stimulus, dt);
 };
 
-/// A model may also do its rbr_qss step for lane_count cells at once (lanes.hpp); the particle loops
-/// of ReactionSystem then use it.
+/// A model whose production and loss are written for any number type (production_loss_of<T>, with
+/// T = double and T = Lanes) can take the rbr_qss step for lane_count cells at once (lanes.hpp).
 template <class M>
-concept HasLanesRbrQssStep =
+concept HasLanesProductionLoss =
+    requires(const M& model, const std::array<Lanes, M::n_states>& y, const Lanes& stimulus, std::size_t k) {
+      { model.template production_loss_of<Lanes>(k, y, stimulus) } -> std::same_as<BasicProductionLoss<Lanes>>;
+    };
+
+/// A model may also have its own rbr_qss step for lanes (like HasOwnRbrQssStep for one cell).
+template <class M>
+concept HasOwnLanesRbrQssStep =
     requires(const M& model, std::array<Lanes, M::n_states>& y, const Lanes& stimulus, double dt) {
       model.rbr_qss_step(y, stimulus, dt);
     };
+
+/// The particle loops of ReactionSystem advance such models eight cells at a time.
+template <class M>
+concept HasLanesRbrQssStep = HasOwnLanesRbrQssStep<M> || HasLanesProductionLoss<M>;
+
+/// One rbr_qss step of lane_count cells: the model's own, or the generic sweeps on its
+/// production_loss_of<Lanes>, the same sequence of operations as rbr_qss_sweeps in every lane.
+template <class M>
+  requires HasLanesRbrQssStep<M>
+void rbr_qss_step_in_lanes(const M& model, std::array<Lanes, M::n_states>& y, const Lanes& stimulus, double dt) {
+  if constexpr (HasOwnLanesRbrQssStep<M>) {
+    model.rbr_qss_step(y, stimulus, dt);
+  } else {
+    constexpr std::size_t n = M::n_states;
+    const double half = 0.5 * dt;
+    const auto update = [&](std::size_t k) {
+      y[k] = BasicQssStep<Lanes>(model.template production_loss_of<Lanes>(k, y, stimulus), half).apply(y[k]);
+    };
+    for (std::size_t k = 0; k < n; ++k) update(k);
+    for (std::size_t k = n; k-- > 0;) update(k);
+  }
+}
 
 template <ReactionModel M>
 void advance_cell(const M& model, typename M::State& y, double stimulus, double dt, ReactionScheme scheme) {

@@ -44,9 +44,15 @@ class FitzHughNagumo {
   }
 
   ProductionLoss production_loss(std::size_t k, const State& y, double stimulus) const {
-    const double v = p_.scaling.to_u(y[0]), w = y[1];
-    if (k == 0) return p_.scaling.potential({v - w + p_.scaling.stimulus_to_u(stimulus), v * v / 3});
-    return p_.scaling.other({p_.epsilon * (v + p_.beta), p_.epsilon * p_.gamma});
+    return production_loss_of<double>(k, y, stimulus);
+  }
+  /// The same for one cell (T = double) or several (T = Lanes, lanes.hpp).
+  template <class T>
+  BasicProductionLoss<T> production_loss_of(std::size_t k, const std::array<T, n_states>& y, const T& stimulus) const {
+    const T v = p_.scaling.to_u(y[0]);
+    const T& w = y[1];
+    if (k == 0) return p_.scaling.potential(BasicProductionLoss<T>{v - w + p_.scaling.stimulus_to_u(stimulus), v * v / 3});
+    return p_.scaling.other(BasicProductionLoss<T>{p_.epsilon * (v + p_.beta), constant<T>(p_.epsilon * p_.gamma)});
   }
 
   State rates(const State& y, double stimulus) const {

@@ -141,13 +141,19 @@ struct DimensionlessScaling {
   double time_scale = 1;      ///< ms per unit of tau
 
   double to_u(double V) const { return (V - voltage_offset) / voltage_scale; }
+  Lanes to_u(const Lanes& V) const { return (V - voltage_offset) / voltage_scale; }
   double to_V(double u) const { return voltage_scale * u + voltage_offset; }
   /// A stimulus dV/dt as du/dtau.
   double stimulus_to_u(double stimulus) const { return stimulus * time_scale / voltage_scale; }
-  ProductionLoss potential(ProductionLoss u_rate) const {
+  Lanes stimulus_to_u(const Lanes& stimulus) const { return stimulus * time_scale / voltage_scale; }
+  template <class T>
+  BasicProductionLoss<T> potential(const BasicProductionLoss<T>& u_rate) const {
     return {(voltage_scale * u_rate.production + u_rate.loss * voltage_offset) / time_scale, u_rate.loss / time_scale};
   }
-  ProductionLoss other(ProductionLoss rate) const { return {rate.production / time_scale, rate.loss / time_scale}; }
+  template <class T>
+  BasicProductionLoss<T> other(const BasicProductionLoss<T>& rate) const {
+    return {rate.production / time_scale, rate.loss / time_scale};
+  }
 };
 
 }  // namespace sph

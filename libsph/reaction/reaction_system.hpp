@@ -84,7 +84,7 @@ class ReactionSystem {
         for (std::size_t k = 0; k < n_states; ++k) y[k][l] = columns[k][i];
         if (!stimulus.empty()) s[l] = stimulus[i];
       }
-      model_.rbr_qss_step(y, s, dt);
+      rbr_qss_step_in_lanes(model_, y, s, dt);
       for (std::size_t l = 0; l < count; ++l)
         for (std::size_t k = 0; k < n_states; ++k) columns[k][first + l] = static_cast<Real>(y[k][static_cast<int>(l)]);
     });
