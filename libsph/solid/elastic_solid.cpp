@@ -270,7 +270,7 @@ Vec<Dim> ElasticSolid<Dim>::internal_force_of(std::size_t i, std::span<const Vec
   const Vec<Dim> x_i = x[i];
   const Mat<Dim> F_i = F[i];
   Vec<Dim> weighted_sum = Vec<Dim>::Zero(), stress_force = Vec<Dim>::Zero(), hourglass_force = Vec<Dim>::Zero(),
-           viscous_force = Vec<Dim>::Zero();
+           viscous_force = Vec<Dim>::Zero(), viscous_weighted_sum = Vec<Dim>::Zero();
   const auto& v = previous_velocity_;  // the velocities at the start of the step (the field is being updated)
   const Vec<Dim> v_i = v[i];
   for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
@@ -285,13 +285,14 @@ Vec<Dim> ElasticSolid<Dim>::internal_force_of(std::size_t i, std::span<const Vec
       const Real delta_r = ((F_i + F[j]) * X_ij - 2 * x_ij).dot(x_ij);  // (delta_i + delta_j) |x_ij|
       hourglass_force += (V[j] * Real(g.hourglass_weight) * delta_r / x_ij.squaredNorm()) * x_ij;
     }
-    if constexpr (Viscous) {  // W_ij / |X_ij|^2 (x_ij . v_ij) (F_i + F_j) V_j grad0 W_ij
+    if constexpr (Viscous) {  // W_ij / |X_ij|^2 (x_ij . v_ij) (F_i + F_j) V_j grad0 W_ij, the F_i part summed apart
       const Real rate = Real(g.hourglass_weight) * (x_i - x[j]).dot(v_i - v[j]);
-      viscous_force.noalias() += rate * ((F_i + F[j]) * w);
+      viscous_weighted_sum += rate * w;
+      viscous_force.noalias() += F[j] * (rate * w);
     }
   }
   stress_force.noalias() += PB[i] * weighted_sum;
-  if constexpr (Viscous) stress_force += viscosity_factor_ * viscous_force;
+  if constexpr (Viscous) stress_force += viscosity_factor_ * (viscous_force + F_i * viscous_weighted_sum);
   if constexpr (Hourglass) return stress_force + hourglass_factor_ * hourglass_force;
   return stress_force;
 }
