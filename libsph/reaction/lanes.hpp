@@ -1,13 +1,14 @@
 #pragma once
 // Several cells in one evaluation: a cell model may write its equations once for a number type T
 // and evaluate them with T = double (one cell) and with T = Lanes (lane_count cells, one per SIMD
-// lane, with Eigen's vectorised exp, log and expm1). The arithmetic per lane is the scalar one;
-// only the elementary functions round differently (Eigen's polynomial approximations against the
-// C library's), so a lane's result differs from the scalar one by rounding, not by method.
+// lane, with Eigen's vectorised exp, log and sqrt, and exp_minus_one below). The arithmetic per
+// lane is the scalar one; only the elementary functions round differently (Eigen's polynomial
+// approximations against the C library's), so a lane's result differs from the scalar one by
+// rounding, not by method.
 //
 // Lane-wise branching: `pick(condition, when_true, when_false)` evaluates only the chosen branch for
-// double and both branches for Lanes, each lane taking its own (the branch not taken may produce
-// inf or NaN in a lane; it is discarded).
+// double; for Lanes, only the branches that some lane takes, each lane keeping its own (a branch
+// evaluated for the other lanes may produce inf or NaN in a lane; it is discarded).
 
 #include <Eigen/Core>
 #include <cmath>

@@ -86,7 +86,6 @@ struct BasicQssStep {
         factor = r.loss > 0 ? -std::expm1(-pdt) / r.loss : dt;
       }
     } else {
-      // Each form is evaluated only if a lane takes it.
       const T pdt = r.loss * dt;
       relaxed = pdt > 0.5;
       // Each form is evaluated only if a lane takes it (Eigen's select() is not vectorised).

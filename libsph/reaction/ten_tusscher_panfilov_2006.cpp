@@ -16,7 +16,6 @@
 #include <cmath>
 #include <initializer_list>
 #include <optional>
-#include <type_traits>
 
 namespace sph {
 

@@ -287,8 +287,9 @@ Vec<Dim> ElasticSolid<Dim>::internal_force_of(std::size_t i, std::span<const Vec
     }
     if constexpr (Viscous) {  // W_ij / |X_ij|^2 (x_ij . v_ij) (F_i + F_j) V_j grad0 W_ij, the F_i part summed apart
       const Real rate = Real(g.hourglass_weight) * (x_i - x[j]).dot(v_i - v[j]);
-      viscous_weighted_sum += rate * w;
-      viscous_force.noalias() += F[j] * (rate * w);
+      const Vec<Dim> rate_w = rate * w;
+      viscous_weighted_sum += rate_w;
+      viscous_force.noalias() += F[j] * rate_w;
     }
   }
   stress_force.noalias() += PB[i] * weighted_sum;
