@@ -24,6 +24,9 @@ void declare_parameters(Parameters& p, SolidNumerics& n, const std::string& time
   p.add("mass_scaling", n.mass_scaling, "-",
         "factor on the solid's inertia (density) for quasi-static runs: the acoustic step grows by its square root; "
         "1 = physical inertia", Range::closed(1, 1e6));
+  p.add_choice("deformation_gradient", n.deformation_gradient, {"corrected", "quadratic"},
+               "reconstruction of F: corrected (kernel-corrected gradient, exact for linear motion) or quadratic (weighted "
+               "least squares, exact for quadratic motion, also at free surfaces)");
   p.add("fixed_time_step", n.fixed_time_step, time_unit,
         "fixed solid time step instead of the acoustic one (0: acoustic); no stability guarantee", Range::non_negative());
 }
@@ -107,9 +110,105 @@ ElasticSolid<Dim>::ElasticSolid(ParticleSet<Dim>& particles, const InnerRelation
       B[i] = moment.determinant() > Real(1e-6) ? Mat<Dim>(moment.transpose().inverse()) : Mat<Dim>::Identity();
     });
   }
+  if (settings_.numerics.deformation_gradient == "quadratic")
+    build_quadratic_reconstruction();
+  else if (settings_.numerics.deformation_gradient != "corrected")
+    throw std::invalid_argument(body + ": deformation gradient '" + settings_.numerics.deformation_gradient +
+                                "' is neither 'corrected' nor 'quadratic'");
   previous_position_.resize(n);
   previous_velocity_.resize(n);
   load_acceleration_.resize(n);
+}
+
+template <int Dim>
+void ElasticSolid<Dim>::build_quadratic_reconstruction() {
+  // Weighted least squares on the basis p(xi) = (xi, the Dim (Dim + 1) / 2 quadratic monomials of xi),
+  // xi = (X_j - X_i) / h, weights V_j W_ij: x_j - x_i = F xi h + (quadratic terms) is fitted by
+  //   M_i c = sum_j V_j W_ij p(xi_ij) (x) (x_j - x_i),   M_i = sum_j V_j W_ij p(xi_ij) p(xi_ij)^T,
+  // so F_i = sum_j (x_j - x_i) (x) a_ij with a_ij = V_j W_ij [M_i^-1 p(xi_ij)]_(1..Dim) / h, exact for
+  // any quadratic motion whatever the neighbourhood (the finite-particle / moving-least-squares
+  // gradient of second order; Liu & Liu 2006, Comput. Mech. 38:106; Belytschko et al. 1996, CMAME
+  // 139:3). A particle whose moment matrix is ill-conditioned (too few neighbours on a corner) keeps
+  // the corrected gradient a_ij = V_j B0_i grad0 W_ij.
+  constexpr int Q = Dim + Dim * (Dim + 1) / 2;
+  using Basis = Eigen::Matrix<Real, Q, 1>;
+  using Moment = Eigen::Matrix<Real, Q, Q>;
+  const auto& rel = relation_;
+  const auto X = particles_.field(reference_position_);
+  const auto& V = particles_.volume;
+  auto B = particles_.field(correction_matrix_);
+  const Real h = rel.smoothing_length;
+  const std::size_t n = particles_.n_particles();
+  auto basis = [](const Vec<Dim>& xi) {
+    Basis p;
+    p.template head<Dim>() = xi;
+    int m = Dim;
+    for (int a = 0; a < Dim; ++a)
+      for (int b = a; b < Dim; ++b) p[m++] = xi[a] * xi[b];
+    return p;
+  };
+  std::vector<Vec<Dim>> corrected(rel.n_pairs()), weights(rel.n_pairs());
+  parallel_for(n, [&](std::size_t i) {
+    Moment M = Moment::Zero();
+    for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
+      const Index j = rel.neighbour[k];
+      const Basis p = basis((X[j] - X[i]) / h);
+      M.noalias() += (V[j] * rel.kernel_value[k]) * (p * p.transpose());
+    }
+    const Eigen::LDLT<Moment> ldlt(M);
+    const bool quadratic = ldlt.info() == Eigen::Success && ldlt.isPositive() && ldlt.rcond() > Real(1e-4);
+    for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
+      const Index j = rel.neighbour[k];
+      corrected[k] = V[j] * (B[i] * pair_gradient_[k].vector().template cast<Real>());
+      weights[k] = quadratic ? Vec<Dim>((V[j] * rel.kernel_value[k] / h) * ldlt.solve(basis((X[j] - X[i]) / h)).template head<Dim>())
+                             : corrected[k];
+    }
+  });
+  // a_ji beside a_ij (the relation is symmetric: i is among the neighbours of j), and sum_j a_ij.
+  std::vector<std::size_t> reverse(rel.n_pairs());
+  parallel_for(n, [&](std::size_t i) {
+    for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
+      const Index j = rel.neighbour[k];
+      std::size_t r = rel.offsets[j];
+      while (r < rel.offsets[j + 1] && rel.neighbour[r] != i) ++r;
+      if (r == rel.offsets[j + 1]) throw std::logic_error("solid: the inner relation is not symmetric");
+      reverse[k] = r;
+    }
+  });
+  // The stiffest mode: a Gershgorin bound of the stiffness sum_i V_i G_i^T G_i of the map G_i from
+  // the positions to F_i (G_ik = a_ik for a neighbour k, -sum_j a_ij for k = i), per unit volume,
+  //   lambda = max_k 1/V_k sum_i V_i |G_ik| sum_l |G_il|,
+  // for both reconstructions. The acoustic step is divided by sqrt(lambda_quadratic / lambda_corrected),
+  // so that acoustic_cfl keeps the meaning it has for the corrected gradient.
+  auto gershgorin = [&](const std::vector<Vec<Dim>>& a) {
+    std::vector<Vec<Dim>> sum(n, Vec<Dim>::Zero());
+    std::vector<Real> row(n, 0);
+    parallel_for(n, [&](std::size_t i) {
+      for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
+        sum[i] += a[k];
+        row[i] += a[k].norm();
+      }
+      row[i] += sum[i].norm();
+    });
+    return parallel_max(n, Real(0), [&](std::size_t i) {
+      Real bound = sum[i].norm() * row[i];
+      for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k)
+        bound += V[rel.neighbour[k]] / V[i] * a[reverse[k]].norm() * row[rel.neighbour[k]];
+      return bound;
+    });
+  };
+  const Real ratio = gershgorin(weights) / gershgorin(corrected);
+  step_factor_ = ratio > 1 ? 1 / std::sqrt(ratio) : Real(1);
+  pair_weights_.resize(rel.n_pairs());
+  a_sum_.assign(n, Vec<Dim>::Zero());
+  parallel_for(n, [&](std::size_t i) {
+    for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
+      pair_weights_[k].a = weights[k].template cast<PairReal>();
+      pair_weights_[k].reverse = weights[reverse[k]].template cast<PairReal>();
+      a_sum_[i] += pair_weights_[k].a.template cast<Real>();
+    }
+    B[i].setIdentity();
+  });
 }
 
 template <int Dim>
@@ -178,6 +277,11 @@ Mat<Dim> ElasticSolid<Dim>::deformation_gradient_of(std::size_t i, std::span<con
   const auto& rel = relation_;
   const Vec<Dim> x_i = x[i];
   Mat<Dim> moment = Mat<Dim>::Zero();
+  if (!pair_weights_.empty()) {  // quadratic: F_i = sum_j (x_j - x_i) (x) a_ij
+    for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k)
+      moment.noalias() += (x[rel.neighbour[k]] - x_i) * pair_weights_[k].a.transpose().template cast<Real>();
+    return moment;
+  }
   for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
     const Index j = rel.neighbour[k];
     const Vec<Dim> w = V[j] * pair_gradient_[k].vector().template cast<Real>();
@@ -261,7 +365,25 @@ void ElasticSolid<Dim>::update_current_sound_speed() {
 }
 
 template <int Dim>
-template <bool Hourglass, bool Viscous>
+Vec<Dim> ElasticSolid<Dim>::stress_divergence_of(std::size_t i, std::span<const Real> V, std::span<const Mat<Dim>> PB) const {
+  const auto& rel = relation_;
+  Vec<Dim> force = Vec<Dim>::Zero();
+  if (!pair_weights_.empty()) {  // P_i sum_j a_ij - sum_j (V_j / V_i) P_j a_ji
+    for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k)
+      force.noalias() += V[rel.neighbour[k]] * (PB[rel.neighbour[k]] * pair_weights_[k].reverse.template cast<Real>());
+    return PB[i] * a_sum_[i] - force / V[i];
+  }
+  Vec<Dim> weighted_sum = Vec<Dim>::Zero();  // sum_j V_j (P_i B_i + P_j B_j) grad0 W_ij
+  for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
+    const Vec<Dim> w = V[rel.neighbour[k]] * pair_gradient_[k].vector().template cast<Real>();
+    weighted_sum += w;
+    force.noalias() += PB[rel.neighbour[k]] * w;
+  }
+  return force + PB[i] * weighted_sum;
+}
+
+template <int Dim>
+template <bool Quadratic, bool Hourglass, bool Viscous>
 Vec<Dim> ElasticSolid<Dim>::internal_force_of(std::size_t i, std::span<const Vec<Dim>> x, std::span<const Real> V,
                                               std::span<const Mat<Dim>> F, std::span<const Mat<Dim>> PB) const {
   // sum_j V_j (P_i B_i + P_j B_j) grad0 W_ij + alpha E / 2 sum_j V_j W_ij / |X_ij|^2 (delta_ij^i + delta_ij^j) x_ij / |x_ij|
@@ -277,8 +399,12 @@ Vec<Dim> ElasticSolid<Dim>::internal_force_of(std::size_t i, std::span<const Vec
     const Index j = rel.neighbour[k];
     const PairGradient& g = pair_gradient_[k];
     const Vec<Dim> w = V[j] * g.vector().template cast<Real>();  // V_j grad0 W_ij
-    weighted_sum += w;
-    stress_force.noalias() += PB[j] * w;
+    if constexpr (Quadratic) {
+      stress_force.noalias() += V[j] * (PB[j] * pair_weights_[k].reverse.template cast<Real>());
+    } else {
+      weighted_sum += w;
+      stress_force.noalias() += PB[j] * w;
+    }
     if constexpr (Hourglass) {
       const Vec<Dim> x_ij = x_i - x[j];
       const Vec<Dim> X_ij = pair_offset_[k].template cast<Real>();
@@ -292,7 +418,10 @@ Vec<Dim> ElasticSolid<Dim>::internal_force_of(std::size_t i, std::span<const Vec
       viscous_force.noalias() += F[j] * rate_w;
     }
   }
-  stress_force.noalias() += PB[i] * weighted_sum;
+  if constexpr (Quadratic)
+    stress_force = PB[i] * a_sum_[i] - stress_force / V[i];
+  else
+    stress_force.noalias() += PB[i] * weighted_sum;
   if constexpr (Viscous) stress_force += viscosity_factor_ * (viscous_force + F_i * viscous_weighted_sum);
   if constexpr (Hourglass) return stress_force + hourglass_factor_ * hourglass_force;
   return stress_force;
@@ -342,23 +471,27 @@ typename ElasticSolid<Dim>::StepCheck ElasticSolid<Dim>::accelerations(Real time
   const bool loads = !(pressure_loads_.empty() && force_loads_.empty() && traction_loads_.empty());
   const Vec<Dim> g = settings_.body_force * (1 / settings_.numerics.mass_scaling);
   const std::size_t n = particles_.n_particles();
-  auto run = [&]<bool Hourglass, bool Viscous>() {
+  auto run = [&]<bool Quadratic, bool Hourglass, bool Viscous>() {
     return parallel_reduce(
         n, StepCheck{0, n},
         [&](std::size_t i) {
-          Vec<Dim> a_i = inverse_inertia_ * internal_force_of<Hourglass, Viscous>(i, x, V, F, PB) + g;
+          Vec<Dim> a_i = inverse_inertia_ * internal_force_of<Quadratic, Hourglass, Viscous>(i, x, V, F, PB) + g;
           if (loads) a_i += load_acceleration_[i];
           const bool finite = finish(i, a_i);
           return StepCheck{finite ? a_i.norm() : Real(0), finite ? n : i};
         },
         [](const StepCheck& p, const StepCheck& q) { return StepCheck{std::max(p.max_acceleration, q.max_acceleration), std::min(p.first_bad, q.first_bad)}; });
   };
-  if (viscosity_factor_ > 0) {
-    if (hourglass_factor_ > 0) return run.template operator()<true, true>();
-    return run.template operator()<false, true>();
-  }
-  if (hourglass_factor_ > 0) return run.template operator()<true, false>();
-  return run.template operator()<false, false>();
+  auto with_terms = [&]<bool Quadratic>() {
+    if (viscosity_factor_ > 0) {
+      if (hourglass_factor_ > 0) return run.template operator()<Quadratic, true, true>();
+      return run.template operator()<Quadratic, false, true>();
+    }
+    if (hourglass_factor_ > 0) return run.template operator()<Quadratic, true, false>();
+    return run.template operator()<Quadratic, false, false>();
+  };
+  if (!pair_weights_.empty()) return with_terms.template operator()<true>();
+  return with_terms.template operator()<false>();
 }
 
 template <int Dim>
@@ -383,13 +516,15 @@ void ElasticSolid<Dim>::apply_position_constraints(Real time) {
 
 template <int Dim>
 void ElasticSolid<Dim>::apply_velocity_constraints(Real time) {
+  // The constrained components of the acceleration are zeroed too (they carry the reaction forces).
   auto v = particles_.field(velocity_);
+  auto a = particles_.field(acceleration_);
   const auto X = particles_.field(reference_position_);
-  for (const Index i : clamped_) v[i].setZero();
+  for (const Index i : clamped_) v[i].setZero(), a[i].setZero();
   for (const auto& [set, component] : sliding_)
-    for (const Index i : set) v[i][component] = 0;
+    for (const Index i : set) v[i][component] = 0, a[i][component] = 0;
   for (const auto& motion : prescribed_)
-    for (const Index i : motion.particles) v[i] = motion.velocity(X[i], time);
+    for (const Index i : motion.particles) v[i] = motion.velocity(X[i], time), a[i].setZero();
 }
 
 template <int Dim>
@@ -450,7 +585,7 @@ Real ElasticSolid<Dim>::stable_time_step() const {
   const Real h = relation_.smoothing_length;
   Real dt = h / (current_sound_speed_ + max_speed);
   if (max_acceleration_ > 0) dt = std::min(dt, std::sqrt(h / max_acceleration_));
-  return settings_.numerics.cfl * dt;
+  return settings_.numerics.cfl * step_factor_ * dt;
 }
 
 template <int Dim>
@@ -544,23 +679,23 @@ typename ElasticSolid<Dim>::Residual ElasticSolid<Dim>::equilibrium_residual(Rea
   r.net = std::sqrt(parallel_sum(n, 0.0, [&](std::size_t i) {
     return constrained[i] ? 0.0 : double((V[i] / inverse_inertia_ * a[i]).squaredNorm());
   }));
+  const bool loads = !(pressure_loads_.empty() && force_loads_.empty() && traction_loads_.empty());
+  const Vec<Dim> g = settings_.body_force * (1 / settings_.numerics.mass_scaling);
+  r.load = std::sqrt(parallel_sum(n, 0.0, [&](std::size_t i) {
+    if (constrained[i]) return 0.0;
+    const Vec<Dim> load = loads ? Vec<Dim>(load_acceleration_[i] + g) : g;
+    return double((V[i] / inverse_inertia_ * load).squaredNorm());
+  }));
   if (active_tension_.valid()) {
-    // The divergence of the active stress alone: sum_j V_i V_j (Pa_i B_i + Pa_j B_j) grad W_ij.
+    // The force of the active stress alone, Pa = T_a F f0 (x) f0 in place of P.
     const auto F = particles_.field(deformation_gradient_);
     const auto B = particles_.field(correction_matrix_);
     const auto f = particles_.field(fiber_);
     const auto T = particles_.field(active_tension_);
     std::vector<Mat<Dim>> PB(n);
     parallel_for(n, [&](std::size_t i) { PB[i] = T[i] * (F[i] * f[i]) * (B[i].transpose() * f[i]).transpose(); });
-    const auto& rel = relation_;
     r.active = std::sqrt(parallel_sum(n, 0.0, [&](std::size_t i) {
-      if (constrained[i]) return 0.0;
-      Vec<Dim> force = Vec<Dim>::Zero();
-      for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
-        const Index j = rel.neighbour[k];
-        force.noalias() += (V[i] * V[j]) * ((PB[i] + PB[j]) * pair_gradient_[k].vector().template cast<Real>());
-      }
-      return double(force.squaredNorm());
+      return constrained[i] ? 0.0 : double((V[i] * stress_divergence_of(i, V, PB)).squaredNorm());
     }));
   }
   return r;

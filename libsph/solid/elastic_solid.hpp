@@ -9,6 +9,10 @@
 // with P = F S(F) from the material law (material_laws.hpp). The pair term is twice the
 // inter-particle average 1/2 (P_i B0_i + P_j B0_j); with a full neighbourhood it is the corrected
 // divergence of P (Vignjevic, Reveles & Campbell 2006; Zhang et al. 2021, CMAME 381:113847, eq. 25).
+// With SolidNumerics::deformation_gradient = "quadratic", F_i = sum_j (x_j - x_i) (x) a_ij with the
+// weights of a weighted least-squares fit on a quadratic basis (exact for quadratic motion, at free
+// surfaces too), B0 = I, and the force is the derivative of sum_i V_i W(F_i):
+// f_i = V_i P_i sum_j a_ij - sum_j V_j P_j a_ji (docs/solid.md).
 // Hourglass control: the penalty force of Ganzenmueller 2015 (CMAME 286:87, eq. 20),
 //   f_hg,i = alpha/2 sum_j V_i V_j W0_ij E / |X_ij|^2 (delta_ij^i + delta_ij^j) x_ij / |x_ij|,
 //   delta_ij^i = (F_i X_ij - x_ij) . x_ij / |x_ij|,
@@ -81,6 +85,10 @@ struct SolidNumerics {
   /// s >= 1: the inertia is rho0 s (loads and body force keep their physical size), for quasi-static
   /// problems where inertia only slows the approach to equilibrium; the acoustic step grows by sqrt(s).
   Real mass_scaling = 1;
+  /// How F is reconstructed from the positions: "corrected" (the kernel-corrected gradient, exact for
+  /// linear motion) or "quadratic" (weighted least squares on a quadratic basis, exact for quadratic
+  /// motion at free surfaces too); see docs/solid.md.
+  std::string deformation_gradient = "corrected";
 };
 
 /// Declares hourglass_coefficient, artificial_viscosity, acoustic_cfl, tangent_time_step, mass_scaling and
@@ -147,14 +155,21 @@ class ElasticSolid {
   /// Equilibrium check of a (quasi-)static state: the l2 norms over the unconstrained particles of
   /// the net nodal force V_i rho0 a_i (stress, hourglass, loads and body force; no damping) and of
   /// the part of it from the active stress alone, at the current positions and `time`.
+  /// `load` is the l2 norm of the loads and the body force on the same particles.
   struct Residual {
-    double net = 0, active = 0;
+    double net = 0, active = 0, load = 0;
   };
   Residual equilibrium_residual(Real time);
   /// Zero-energy-mode measure: the mean over pairs of |F_i X_ij - x_ij| / |X_ij| at the current positions.
   double hourglass_measure();
 
+  /// Applies the velocity constraints (clamp, slide, prescribed motion) at `time`, e.g. after a
+  /// velocity update from outside (a quasi-static relaxation).
+  void constrain_velocities(Real time) { apply_velocity_constraints(time); }
+
   FieldHandle<Vec<Dim>> velocity_field() const { return velocity_; }
+  /// The acceleration of the last step (internal, hourglass and load forces, body force, damping excluded).
+  FieldHandle<Vec<Dim>> acceleration_field() const { return acceleration_; }
   FieldHandle<Vec<Dim>> reference_position_field() const { return reference_position_; }
   FieldHandle<Vec<Dim>> fiber_field() const { return fiber_; }
   FieldHandle<Vec<Dim>> sheet_field() const { return sheet_; }
@@ -205,7 +220,7 @@ class ElasticSolid {
     return handle.valid() ? std::span<const Vec<Dim>>(particles_.field(handle)) : std::span<const Vec<Dim>>();
   }
   void update_current_sound_speed();
-  template <bool Hourglass, bool Viscous>
+  template <bool Quadratic, bool Hourglass, bool Viscous>
   Vec<Dim> internal_force_of(std::size_t i, std::span<const Vec<Dim>> x, std::span<const Real> V,
                              std::span<const Mat<Dim>> F, std::span<const Mat<Dim>> PB) const;
   void compute_load_accelerations(Real time);
@@ -221,6 +236,7 @@ class ElasticSolid {
   // dW/dr(r0) e_ij, the hourglass weight W_ij / r0^2 and X_ij = r0 e_ij. 28 bytes a pair, read in
   // place of the relation's 52 bytes of cached kernel data.
   using PairReal = float;
+  using PairVector = Eigen::Matrix<PairReal, Dim, 1>;
   struct PairGradient {
     PairReal gradient[Dim];
     PairReal hourglass_weight;
@@ -231,7 +247,21 @@ class ElasticSolid {
   const InnerRelation<Dim>& relation_;
   Settings settings_;
   std::vector<PairGradient> pair_gradient_;
-  std::vector<Eigen::Matrix<PairReal, Dim, 1>> pair_offset_;
+  std::vector<PairVector> pair_offset_;
+  // The quadratic reconstruction (deformation_gradient = "quadratic"): F_i = sum_j (x_j - x_i) (x) a_ij
+  // and the force of the energy sum_i V_i W(F_i), f_i = V_i P_i sum_j a_ij - sum_j V_j P_j a_ji, with
+  // a_ij and a_ji stored per pair in the relation's order (single precision, the same numbers in F
+  // and in the force, so momentum is conserved to round-off); a_sum_ = sum_j a_ij per particle. Empty
+  // for "corrected". B0 is then the identity.
+  struct PairWeights {
+    PairVector a, reverse;  // a_ij and a_ji
+  };
+  /// The stress force per unit reference volume of particle i from the stresses PB (P B0, or P when quadratic).
+  Vec<Dim> stress_divergence_of(std::size_t i, std::span<const Real> V, std::span<const Mat<Dim>> PB) const;
+  std::vector<PairWeights> pair_weights_;
+  std::vector<Vec<Dim>> a_sum_;
+  Real step_factor_ = 1;  // the acoustic step's factor for the reconstruction's stiffest mode
+  void build_quadratic_reconstruction();
   Real sound_speed_ = 0, current_sound_speed_ = 0;
   Real hourglass_factor_ = 0;  // alpha E / 2
   Real viscosity_factor_ = 0;  // eta rho0 s c h d^2 / (4 W(0))

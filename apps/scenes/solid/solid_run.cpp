@@ -12,6 +12,13 @@ void declare_solid_numerics(sph::Parameters& p, SolidSceneNumerics& n, const std
   sph::declare_parameters(p, n.solid, time_unit);
 }
 
+void declare_quasi_static(sph::Parameters& p, std::string& solver, sph::RelaxationSettings& settings) {
+  p.add_choice("solver", solver, {"quasi_static", "dynamic"},
+               "quasi_static: damped relaxation stopped on the residual (end_time is then the most pseudo-time allowed; "
+               "not converged by then: the run fails with the residual); dynamic: damped dynamics to end_time");
+  sph::declare_parameters(p, settings);
+}
+
 void check_whole_spacings(double extent, double spacing, const std::string& name) {
   const double cells = extent / spacing;
   if (std::abs(cells - std::round(cells)) > 1e-6 * cells || std::round(cells) < 1)
@@ -21,14 +28,24 @@ void check_whole_spacings(double extent, double spacing, const std::string& name
 
 template <int Dim>
 SolidRunSummary run_solid(sph::ElasticSolid<Dim>& solid, const sph::NeighbourList<Dim>& relation,
-                          const SolidRunPlan& plan, RunContext& ctx) {
+                          const SolidRunPlan& plan, RunContext& ctx, sph::QuasiStaticRelaxation<Dim>* relaxation) {
   auto& body = solid.particles();
   sph::TimeStepper stepper(0, static_cast<sph::Real>(plan.end_time));
-  stepper.add_stage(sph::make_stage("solid", [&] { return solid.stable_time_step(); }, [&](sph::Real t, sph::Real dt) {
-    if (plan.before_step) plan.before_step(t, dt);
-    solid.advance(t, dt);
-  }));
+  stepper.add_stage(sph::make_stage(
+      "solid", [&] { return relaxation ? relaxation->stable_time_step() : solid.stable_time_step(); },
+      [&](sph::Real t, sph::Real dt) {
+        if (plan.before_step) plan.before_step(t, dt);
+        if (relaxation)
+          relaxation->advance(t, dt);
+        else
+          solid.advance(t, dt);
+      }));
   if (plan.every_step) stepper.add_step_callback(plan.every_step);
+  if (relaxation)
+    stepper.add_step_callback([&](const sph::StepInfo& s) {
+      if (s.time >= plan.converge_after && relaxation->check_due() && relaxation->check(static_cast<sph::Real>(s.time)).converged)
+        stepper.stop_after_this_step();
+    });
 
   sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, plan.scene, ctx.quiet});
   run.add_body(body, static_cast<sph::Real>(plan.output_interval), [&](double) { solid.update_output_fields(); });
@@ -60,6 +77,13 @@ SolidRunSummary run_solid(sph::ElasticSolid<Dim>& solid, const sph::NeighbourLis
   }
   ctx.report.results["min_jacobian"] = summary.min_jacobian;
   ctx.report.results["max_jacobian"] = summary.max_jacobian;
+  if (relaxation) {
+    const auto& status = relaxation->check(stepper.end_time());
+    summary.converged = status.converged;
+    ctx.report.results["residual_relative"] = status.residual;
+    ctx.report.results["converged"] = status.converged;
+    ctx.report.results["relaxation_steps"] = status.steps;
+  }
   return summary;
 }
 
@@ -83,8 +107,10 @@ std::vector<sph::Index> select_particles(const sph::ParticleSet<Dim>& body,
   return selected;
 }
 
-template SolidRunSummary run_solid<2>(sph::ElasticSolid<2>&, const sph::NeighbourList<2>&, const SolidRunPlan&, RunContext&);
-template SolidRunSummary run_solid<3>(sph::ElasticSolid<3>&, const sph::NeighbourList<3>&, const SolidRunPlan&, RunContext&);
+template SolidRunSummary run_solid<2>(sph::ElasticSolid<2>&, const sph::NeighbourList<2>&, const SolidRunPlan&, RunContext&,
+                                      sph::QuasiStaticRelaxation<2>*);
+template SolidRunSummary run_solid<3>(sph::ElasticSolid<3>&, const sph::NeighbourList<3>&, const SolidRunPlan&, RunContext&,
+                                      sph::QuasiStaticRelaxation<3>*);
 template std::vector<sph::Vec<2>> material_point_positions<2>(const sph::PointProbes<2>&, sph::ElasticSolid<2>&);
 template std::vector<sph::Vec<3>> material_point_positions<3>(const sph::PointProbes<3>&, sph::ElasticSolid<3>&);
 template std::vector<sph::Index> select_particles<2>(const sph::ParticleSet<2>&, const std::function<bool(const sph::Vec<2>&)>&);

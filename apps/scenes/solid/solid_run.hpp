@@ -13,6 +13,7 @@
 #include "libsph/core/time_stepper.hpp"
 #include "libsph/io/run_harness.hpp"
 #include "libsph/solid/elastic_solid.hpp"
+#include "libsph/solid/quasi_static.hpp"
 
 namespace cardiosph {
 
@@ -37,6 +38,7 @@ struct SolidRunPlan {
   sph::RunHarness::Row observers;             ///< their values at a sample time
   std::function<void(const sph::StepInfo&)> every_step;  ///< after every step (may be empty)
   std::function<void(sph::Real time, sph::Real dt)> before_step;  ///< before each step (may be empty)
+  double converge_after = 0;  ///< with a quasi-static relaxation: residual checks from this time on (the loads' ramp)
 };
 
 struct SolidRunSummary {
@@ -44,6 +46,7 @@ struct SolidRunSummary {
   double initial_energy = 0;
   double max_energy_drift = 0;  ///< max |E(t) - E(0)| / max(E(0), max E) over the samples
   double min_jacobian = 1, max_jacobian = 1;
+  bool converged = true;  ///< with a quasi-static relaxation: whether it converged before the end time
 };
 
 /// Runs the solid from t = 0 to the end time. Writes, named after its particle set,
@@ -51,9 +54,15 @@ struct SolidRunSummary {
 /// (time, kinetic, strain, total, J range) and observers.csv into ctx.output_dir; fills steps,
 /// particles, memory and time step in ctx.report. On NumericalFailure the restored last good state
 /// is written, then the error is rethrown (the run ends as failed, exit code 1).
+/// With a quasi-static `relaxation` (of the same solid), its steps replace the solid's and the run
+/// stops at the first converged check after plan.converge_after (or at the end time, not converged);
+/// residual_relative, converged and relaxation_steps go into the report.
 template <int Dim>
 SolidRunSummary run_solid(sph::ElasticSolid<Dim>& solid, const sph::NeighbourList<Dim>& relation,
-                          const SolidRunPlan& plan, RunContext& ctx);
+                          const SolidRunPlan& plan, RunContext& ctx, sph::QuasiStaticRelaxation<Dim>* relaxation = nullptr);
+
+/// Declares the quasi-static settings and `solver` (quasi_static or dynamic) of a quasi-static scene.
+void declare_quasi_static(sph::Parameters& p, std::string& solver, sph::RelaxationSettings& settings);
 
 /// Where the material points of `probes` (built on the solid's reference positions) are now: F is
 /// brought to the current positions, then each point is sampled with it (exact on quadratic motion,

@@ -33,7 +33,7 @@ struct OscillatingBeamParameters {
   double poisson_ratio = 0.3975;
   double velocity_factor = 0.05;  ///< vf: tip speed vf c0, c0 = sqrt(K / rho)
   std::string material = "neo_hookean";  ///< neo_hookean or saint_venant_kirchhoff
-  SolidSceneNumerics numerics;
+  SolidSceneNumerics numerics{.solid = {.deformation_gradient = "quadratic"}};
 };
 
 struct CantileverParameters {
@@ -67,13 +67,15 @@ struct LandBeamParameters {
   long resolution = 6;          ///< particles across the 1 mm thickness
   double end_time = 450;        ///< [ms]
   double pressure = 0.004;      ///< [kPa] on the bottom face
-  double ramp_time = 150;       ///< [ms] linear ramp of the pressure
+  double ramp_time = 0;         ///< [ms] linear ramp of the pressure (0: applied at once)
   double stiffness = 2;         ///< [kPa] C of the Guccione law
   double b_f = 8, b_t = 2, b_fs = 4;
   double bulk_modulus = 200;    ///< [kPa] volumetric penalty K (incompressibility)
   double density = 1;           ///< [mg/mm^3] (only sets the pseudo-dynamics of the relaxation)
   double damping_ratio = 1;     ///< fraction of critical damping of the first bending mode
-  SolidSceneNumerics numerics;
+  std::string solver = "quasi_static";  ///< quasi_static (stop on the residual) or dynamic (to end_time)
+  sph::RelaxationSettings relaxation;
+  SolidSceneNumerics numerics{.solid = {.deformation_gradient = "quadratic"}};
 };
 
 struct HomogeneousDeformationParameters {
