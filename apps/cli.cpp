@@ -52,10 +52,12 @@ int run_cli(int argc, const char* const* argv) {
   mesh->add_option("--out", mesh_out, "output folder (default: meshes)");
   mesh->add_option("--edge", mesh_edge, "target triangle edge length in mm (default 0.5 for the LV, 1.5 for the biventricular heart)");
   mesh->add_flag("--quiet", options.quiet, "print nothing");
-  std::string study_scene, sweep;
+  std::string study_scene, sweep, compare;
   auto* study = app.add_subcommand("study", "run a scene at several settings; error against wall time");
   study->add_option("scene", study_scene, "scene to study")->required();
   study->add_option("--sweep", sweep, "key=value1,value2,... (e.g. resolution=25,50,100)")->required();
+  study->add_option("--compare", compare,
+                    "key=a,b,...: the sweep once for each value, one curve each (e.g. deformation_gradient=corrected,quadratic)");
   add_common_options(*study, options);
 
   try {
@@ -73,7 +75,7 @@ int run_cli(int argc, const char* const* argv) {
         std::cout << "  " << s.name << std::string(width + 2 - s.name.size(), ' ') << s.summary << '\n';
       return exit_ok;
     }
-    if (study->parsed()) return run_study(study_scene, sweep, options);
+    if (study->parsed()) return run_study(study_scene, sweep, compare, options);
     if (mesh->parsed()) return run_mesh_command(mesh_kind, mesh_out, mesh_edge, options.quiet);
     for (const auto& [name, command] : scene_commands) {
       if (!command->parsed()) continue;

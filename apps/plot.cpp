@@ -11,18 +11,20 @@ namespace cardiosph {
 bool plot_log_log(const std::filesystem::path& folder, const LogLogPlot& plot) {
   namespace fs = std::filesystem;
   const std::string partial = plot.png + ".partial", script_name = plot.png + ".gp";
+  bool long_titles = false;  // long legends go below the plot, where they do not squeeze it
+  for (const auto& series : plot.series) long_titles = long_titles || series.title.size() > 30;
   std::ostringstream script;
   script << "set terminal pngcairo size 900,650 enhanced font 'sans,11'\n"
          << "set output '" << partial << "'\n"
          << "set datafile separator ','\n"
          << "set logscale xy\n"
          << "set grid\n"
-         << "set key outside right top\n"
+         << (long_titles ? "set key below\n" : "set key outside right top\n")
          << "set title '" << plot.title << "' noenhanced\n"
          << "set xlabel '" << plot.x_label << "' noenhanced\nset ylabel '" << plot.y_label << "' noenhanced\n"
          << "plot ";
   for (std::size_t s = 0; s < plot.series.size(); ++s)
-    script << (s ? ", " : "") << "'" << plot.csv << "' using " << plot.series[s].x_column << ":" << plot.series[s].y_column
+    script << (s ? ", " : "") << "'" << (plot.series[s].csv.empty() ? plot.csv : plot.series[s].csv) << "' using " << plot.series[s].x_column << ":" << plot.series[s].y_column
            << " skip 1 with linespoints lw 2 pt 7 title '" << plot.series[s].title << "' noenhanced";
   script << "\n";
   sph::write_file_atomically(folder / script_name, script.str());
@@ -34,7 +36,7 @@ bool plot_log_log(const std::filesystem::path& folder, const LogLogPlot& plot) {
   }
   fs::remove(folder / partial);
   std::cerr << "the plot " << plot.png << " was not made (is gnuplot installed? see " << (folder / "gnuplot.log").string()
-            << "); " << plot.csv << " is complete\n";
+            << "); " << (plot.csv.empty() ? std::string("the CSV files are") : plot.csv + " is") << " complete\n";
   return false;
 }
 

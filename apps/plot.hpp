@@ -12,10 +12,11 @@ struct PlotSeries {
   int x_column = 1;  ///< 1-based CSV columns
   int y_column = 2;
   std::string title;
+  std::string csv;  ///< data file relative to the folder; empty: the plot's csv
 };
 
 struct LogLogPlot {
-  std::string csv;    ///< file name inside the folder
+  std::string csv;    ///< file name inside the folder (the series' default)
   std::string png;    ///< file name inside the folder
   std::string title, x_label, y_label;
   std::vector<PlotSeries> series;

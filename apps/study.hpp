@@ -10,6 +10,9 @@
 
 namespace cardiosph {
 
-int run_study(const std::string& scene_name, const std::string& sweep, const CommonOptions& options);
+/// Runs `scene_name` at each value of `sweep` (key=v1,v2,...) and writes study.csv and study.png (error
+/// against wall time); with `compare` (key=a,b,..., may be empty) the sweep is run once for each of
+/// its values, each in its subfolder <key>-<value>, and study.png shows them all.
+int run_study(const std::string& scene_name, const std::string& sweep, const std::string& compare, const CommonOptions& options);
 
 }  // namespace cardiosph

@@ -206,37 +206,49 @@ TEST(ElasticSolid, QuadraticReconstructionIsExactForQuadraticMotion) {
   EXPECT_GT(worst[0], 1e-3);  // the surface error the quadratic reconstruction removes
 }
 
-// With the quadratic reconstruction the force is the derivative of the discrete strain energy
-// sum_i V_i W(F_i): rho0 V_i a_i = -dE/dx_i, checked by central differences on a perturbed block.
-TEST(ElasticSolid, QuadraticReconstructionForceIsTheEnergyDerivative) {
-  auto block = make_block(5, true);
-  auto settings = neo_hookean_settings();
-  settings.numerics.deformation_gradient = "quadratic";
-  sph::ElasticSolid<3> solid(block.body, block.relation, settings);
-  std::mt19937 rng(7);
-  std::normal_distribution<double> noise(0, 0.05);
-  for (auto& x : block.body.position) x += block.dp * Vec3(Real(noise(rng)), Real(noise(rng)), Real(noise(rng)));
-  solid.equilibrium_residual(0);  // fills the acceleration at the current positions
-  const auto a = block.body.field(solid.acceleration_field());
-  double worst = 0, scale = 0;
-  for (const std::size_t i : {std::size_t(0), std::size_t(12), std::size_t(62), std::size_t(124)}) {
-    const Vec3 force = settings.density * block.body.volume[i] * a[i];
-    Vec3 derivative;
-    const Real step = Real(1e-6) * block.dp;
-    for (int d = 0; d < 3; ++d) {
-      const Vec3 x0 = block.body.position[i];
-      block.body.position[i][d] = x0[d] + step;
-      const double up = solid.energies().strain;
-      block.body.position[i][d] = x0[d] - step;
-      const double down = solid.energies().strain;
-      block.body.position[i] = x0;
-      derivative[d] = Real((up - down) / (2 * step));
+// The force is the derivative of the discrete energy sum_i V_i W(F_i) (+ the hourglass energy with
+// hourglass_control = energy): rho0 V_i a_i = -dE/dx_i, checked by central differences on a
+// perturbed block, for the quadratic reconstruction without hourglass control and for both
+// reconstructions with the energy-based hourglass control.
+TEST(ElasticSolid, ForceIsTheEnergyDerivative) {
+  struct Case {
+    const char* reconstruction;
+    const char* hourglass;
+    Real alpha;
+  };
+  for (const Case c : {Case{"quadratic", "penalty", 0}, Case{"quadratic", "energy", 1}, Case{"corrected", "energy", 1}}) {
+    auto block = make_block(5, true);
+    auto settings = neo_hookean_settings();
+    settings.numerics.deformation_gradient = c.reconstruction;
+    settings.numerics.hourglass_control = c.hourglass;
+    settings.numerics.hourglass_coefficient = c.alpha;
+    sph::ElasticSolid<3> solid(block.body, block.relation, settings);
+    std::mt19937 rng(7);
+    std::normal_distribution<double> noise(0, 0.05);
+    for (auto& x : block.body.position) x += block.dp * Vec3(Real(noise(rng)), Real(noise(rng)), Real(noise(rng)));
+    solid.equilibrium_residual(0);  // fills the acceleration at the current positions
+    const auto a = block.body.field(solid.acceleration_field());
+    double worst = 0, scale = 0;
+    for (const std::size_t i : {std::size_t(0), std::size_t(12), std::size_t(62), std::size_t(124)}) {
+      const Vec3 force = settings.density * block.body.volume[i] * a[i];
+      Vec3 derivative;
+      const Real step = Real(1e-6) * block.dp;
+      for (int d = 0; d < 3; ++d) {
+        const Vec3 x0 = block.body.position[i];
+        block.body.position[i][d] = x0[d] + step;
+        const auto up = solid.energies();
+        block.body.position[i][d] = x0[d] - step;
+        const auto down = solid.energies();
+        block.body.position[i] = x0;
+        derivative[d] = Real((up.strain + up.hourglass - down.strain - down.hourglass) / (2 * step));
+      }
+      worst = std::max(worst, double((force + derivative).norm()));
+      scale = std::max(scale, double(force.norm()));
     }
-    worst = std::max(worst, double((force + derivative).norm()));
-    scale = std::max(scale, double(force.norm()));
+    std::printf("%s, hourglass %s (alpha %g): max |rho0 V a + dE/dx| = %.2e against |force| up to %.2e\n", c.reconstruction,
+                c.hourglass, double(c.alpha), worst, scale);
+    EXPECT_LT(worst, test::bound(1e-5, 1e-2) * scale);
   }
-  std::printf("quadratic reconstruction: max |rho0 V a + dE/dx| = %.2e against |force| up to %.2e\n", worst, scale);
-  EXPECT_LT(worst, test::bound(1e-5, 1e-2) * scale);
 }
 
 // The stress and hourglass forces are pairwise antisymmetric: total momentum does not change.

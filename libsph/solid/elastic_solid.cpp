@@ -24,6 +24,9 @@ void declare_parameters(Parameters& p, SolidNumerics& n, const std::string& time
   p.add("mass_scaling", n.mass_scaling, "-",
         "factor on the solid's inertia (density) for quasi-static runs: the acoustic step grows by its square root; "
         "1 = physical inertia", Range::closed(1, 1e6));
+  p.add_choice("hourglass_control", n.hourglass_control, {"penalty", "energy"},
+               "zero-energy-mode control: penalty (Ganzenmueller 2015, not conservative) or energy (the derivative of "
+               "alpha E / 4 sum_ij V_i V_j W_ij / r0^2 |F_i X_ij - x_ij|^2: conservative)");
   p.add_choice("deformation_gradient", n.deformation_gradient, {"corrected", "quadratic"},
                "reconstruction of F: corrected (kernel-corrected gradient, exact for linear motion) or quadratic (weighted "
                "least squares, exact for quadratic motion, also at free surfaces)");
@@ -110,6 +113,10 @@ ElasticSolid<Dim>::ElasticSolid(ParticleSet<Dim>& particles, const InnerRelation
       B[i] = moment.determinant() > Real(1e-6) ? Mat<Dim>(moment.transpose().inverse()) : Mat<Dim>::Identity();
     });
   }
+  if (settings_.numerics.hourglass_control != "penalty" && settings_.numerics.hourglass_control != "energy")
+    throw std::invalid_argument(body + ": hourglass control '" + settings_.numerics.hourglass_control +
+                                "' is neither 'penalty' nor 'energy'");
+  energy_hourglass_ = settings_.numerics.hourglass_control == "energy" && hourglass_factor_ > 0;
   if (settings_.numerics.deformation_gradient == "quadratic")
     build_quadratic_reconstruction();
   else if (settings_.numerics.deformation_gradient != "corrected")
@@ -291,6 +298,21 @@ Mat<Dim> ElasticSolid<Dim>::deformation_gradient_of(std::size_t i, std::span<con
 }
 
 template <int Dim>
+Mat<Dim> ElasticSolid<Dim>::hourglass_stress_of(std::size_t i, const Mat<Dim>& F_i, std::span<const Vec<Dim>> x,
+                                                std::span<const Real> V) const {
+  // H_i = sum_j V_j W_ij / r0^2 e_ij (x) X_ij, e_ij = F_i X_ij - x_ij: the F-part of the derivative of
+  // the hourglass energy acts as a stress (docs/solid.md).
+  const auto& rel = relation_;
+  Mat<Dim> H = Mat<Dim>::Zero();
+  for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
+    const Index j = rel.neighbour[k];
+    const Vec<Dim> X_ij = pair_offset_[k].template cast<Real>();
+    H.noalias() += (V[j] * Real(pair_gradient_[k].hourglass_weight)) * (F_i * X_ij - (x[i] - x[j])) * X_ij.transpose();
+  }
+  return H;
+}
+
+template <int Dim>
 std::size_t ElasticSolid<Dim>::first_invalid_deformation() const {
   const auto F = particles_.field(deformation_gradient_);
   return first_index_where(F.size(), [&](std::size_t i) {
@@ -324,14 +346,17 @@ std::size_t ElasticSolid<Dim>::deformation_and_stress() {
             PB[i].setZero();
             return true;
           }
+          Mat<Dim> P;
           if constexpr (Law::anisotropic) {
             Mat<Dim> S = law.second_piola(Fi, f[i], s[i]);
             if (!T.empty()) S.noalias() += T[i] * (f[i] * f[i].transpose());
-            PB[i].noalias() = Fi * S * B[i];
+            P.noalias() = Fi * S;
           } else {
             const Vec<Dim> none = Vec<Dim>::Zero();
-            PB[i].noalias() = Fi * law.second_piola(Fi, none, none) * B[i];
+            P.noalias() = Fi * law.second_piola(Fi, none, none);
           }
+          if (energy_hourglass_) P.noalias() += hourglass_factor_ * hourglass_stress_of(i, Fi, x, V);
+          PB[i].noalias() = P * B[i];
           return false;
         });
       },
@@ -383,7 +408,7 @@ Vec<Dim> ElasticSolid<Dim>::stress_divergence_of(std::size_t i, std::span<const 
 }
 
 template <int Dim>
-template <bool Quadratic, bool Hourglass, bool Viscous>
+template <bool Quadratic, int Hourglass, bool Viscous>
 Vec<Dim> ElasticSolid<Dim>::internal_force_of(std::size_t i, std::span<const Vec<Dim>> x, std::span<const Real> V,
                                               std::span<const Mat<Dim>> F, std::span<const Mat<Dim>> PB) const {
   // sum_j V_j (P_i B_i + P_j B_j) grad0 W_ij + alpha E / 2 sum_j V_j W_ij / |X_ij|^2 (delta_ij^i + delta_ij^j) x_ij / |x_ij|
@@ -405,11 +430,14 @@ Vec<Dim> ElasticSolid<Dim>::internal_force_of(std::size_t i, std::span<const Vec
       weighted_sum += w;
       stress_force.noalias() += PB[j] * w;
     }
-    if constexpr (Hourglass) {
+    if constexpr (Hourglass == penalty_hourglass) {
       const Vec<Dim> x_ij = x_i - x[j];
       const Vec<Dim> X_ij = pair_offset_[k].template cast<Real>();
       const Real delta_r = ((F_i + F[j]) * X_ij - 2 * x_ij).dot(x_ij);  // (delta_i + delta_j) |x_ij|
       hourglass_force += (V[j] * Real(g.hourglass_weight) * delta_r / x_ij.squaredNorm()) * x_ij;
+    } else if constexpr (Hourglass == energy_hourglass) {  // e_ij - e_ji, the rest is in the stress
+      const Vec<Dim> X_ij = pair_offset_[k].template cast<Real>();
+      hourglass_force += (V[j] * Real(g.hourglass_weight)) * ((F_i + F[j]) * X_ij - 2 * (x_i - x[j]));
     }
     if constexpr (Viscous) {  // W_ij / |X_ij|^2 (x_ij . v_ij) (F_i + F_j) V_j grad0 W_ij, the F_i part summed apart
       const Real rate = Real(g.hourglass_weight) * (x_i - x[j]).dot(v_i - v[j]);
@@ -423,7 +451,7 @@ Vec<Dim> ElasticSolid<Dim>::internal_force_of(std::size_t i, std::span<const Vec
   else
     stress_force.noalias() += PB[i] * weighted_sum;
   if constexpr (Viscous) stress_force += viscosity_factor_ * (viscous_force + F_i * viscous_weighted_sum);
-  if constexpr (Hourglass) return stress_force + hourglass_factor_ * hourglass_force;
+  if constexpr (Hourglass != no_hourglass) return stress_force + hourglass_factor_ * hourglass_force;
   return stress_force;
 }
 
@@ -471,7 +499,7 @@ typename ElasticSolid<Dim>::StepCheck ElasticSolid<Dim>::accelerations(Real time
   const bool loads = !(pressure_loads_.empty() && force_loads_.empty() && traction_loads_.empty());
   const Vec<Dim> g = settings_.body_force * (1 / settings_.numerics.mass_scaling);
   const std::size_t n = particles_.n_particles();
-  auto run = [&]<bool Quadratic, bool Hourglass, bool Viscous>() {
+  auto run = [&]<bool Quadratic, int Hourglass, bool Viscous>() {
     return parallel_reduce(
         n, StepCheck{0, n},
         [&](std::size_t i) {
@@ -482,13 +510,14 @@ typename ElasticSolid<Dim>::StepCheck ElasticSolid<Dim>::accelerations(Real time
         },
         [](const StepCheck& p, const StepCheck& q) { return StepCheck{std::max(p.max_acceleration, q.max_acceleration), std::min(p.first_bad, q.first_bad)}; });
   };
+  auto with_hourglass = [&]<bool Quadratic, bool Viscous>() {
+    if (hourglass_factor_ == 0) return run.template operator()<Quadratic, no_hourglass, Viscous>();
+    if (energy_hourglass_) return run.template operator()<Quadratic, energy_hourglass, Viscous>();
+    return run.template operator()<Quadratic, penalty_hourglass, Viscous>();
+  };
   auto with_terms = [&]<bool Quadratic>() {
-    if (viscosity_factor_ > 0) {
-      if (hourglass_factor_ > 0) return run.template operator()<Quadratic, true, true>();
-      return run.template operator()<Quadratic, false, true>();
-    }
-    if (hourglass_factor_ > 0) return run.template operator()<Quadratic, true, false>();
-    return run.template operator()<Quadratic, false, false>();
+    if (viscosity_factor_ > 0) return with_hourglass.template operator()<Quadratic, true>();
+    return with_hourglass.template operator()<Quadratic, false>();
   };
   if (!pair_weights_.empty()) return with_terms.template operator()<true>();
   return with_terms.template operator()<false>();
@@ -654,6 +683,19 @@ typename ElasticSolid<Dim>::Energies ElasticSolid<Dim>::energies() {
         });
       },
       settings_.material);
+  if (energy_hourglass_) {  // alpha E / 4 sum_i sum_j V_i V_j W_ij / r0^2 |F_i X_ij - x_ij|^2
+    const auto& rel = relation_;
+    const auto& x = particles_.position;
+    e.hourglass = hourglass_factor_ / 2 * parallel_sum(F.size(), 0.0, [&](std::size_t i) {
+      double sum = 0;
+      for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
+        const Index j = rel.neighbour[k];
+        const Vec<Dim> X_ij = pair_offset_[k].template cast<Real>();
+        sum += double(V[i] * V[j] * Real(pair_gradient_[k].hourglass_weight) * (F[i] * X_ij - (x[i] - x[j])).squaredNorm());
+      }
+      return sum;
+    });
+  }
   e.min_jacobian = parallel_reduce(F.size(), std::numeric_limits<Real>::infinity(),
                                    [&](std::size_t i) { return F[i].determinant(); },
                                    [](Real p, Real q) { return std::min(p, q); });

@@ -85,6 +85,10 @@ struct SolidNumerics {
   /// s >= 1: the inertia is rho0 s (loads and body force keep their physical size), for quasi-static
   /// problems where inertia only slows the approach to equilibrium; the acoustic step grows by sqrt(s).
   Real mass_scaling = 1;
+  /// Zero-energy-mode control with alpha = hourglass_coefficient: "penalty" (Ganzenmueller's force,
+  /// not derived from an energy) or "energy" (the derivative of a quadratic energy in the same
+  /// defects: conservative); see docs/solid.md.
+  std::string hourglass_control = "penalty";
   /// How F is reconstructed from the positions: "corrected" (the kernel-corrected gradient, exact for
   /// linear motion) or "quadratic" (weighted least squares on a quadratic basis, exact for quadratic
   /// motion at free surfaces too); see docs/solid.md.
@@ -113,8 +117,9 @@ class ElasticSolid {
 
   struct Energies {
     double kinetic = 0, strain = 0;
+    double hourglass = 0;  ///< the stored energy of hourglass_control = "energy" (0 otherwise)
     Real min_jacobian = 1, max_jacobian = 1;
-    double total() const { return kinetic + strain; }
+    double total() const { return kinetic + strain + hourglass; }
   };
 
   /// The relation must be the inner relation of `particles` built at the current positions (the
@@ -212,6 +217,8 @@ class ElasticSolid {
   void compute_deformation_gradient();
   Mat<Dim> deformation_gradient_of(std::size_t i, std::span<const Vec<Dim>> x, std::span<const Real> V,
                                    std::span<const Mat<Dim>> B) const;
+  /// H_i of the hourglass energy (its F-part acts as the stress alpha E / 2 H_i).
+  Mat<Dim> hourglass_stress_of(std::size_t i, const Mat<Dim>& F_i, std::span<const Vec<Dim>> x, std::span<const Real> V) const;
   /// First particle with a non-finite F or J <= 0, or n.
   std::size_t first_invalid_deformation() const;
   /// F and the stress P B0 of every particle in one pass; the first particle with an invalid F, or n.
@@ -220,7 +227,8 @@ class ElasticSolid {
     return handle.valid() ? std::span<const Vec<Dim>>(particles_.field(handle)) : std::span<const Vec<Dim>>();
   }
   void update_current_sound_speed();
-  template <bool Quadratic, bool Hourglass, bool Viscous>
+  enum HourglassMode { no_hourglass = 0, penalty_hourglass = 1, energy_hourglass = 2 };
+  template <bool Quadratic, int Hourglass, bool Viscous>
   Vec<Dim> internal_force_of(std::size_t i, std::span<const Vec<Dim>> x, std::span<const Real> V,
                              std::span<const Mat<Dim>> F, std::span<const Mat<Dim>> PB) const;
   void compute_load_accelerations(Real time);
@@ -264,6 +272,7 @@ class ElasticSolid {
   void build_quadratic_reconstruction();
   Real sound_speed_ = 0, current_sound_speed_ = 0;
   Real hourglass_factor_ = 0;  // alpha E / 2
+  bool energy_hourglass_ = false;
   Real viscosity_factor_ = 0;  // eta rho0 s c h d^2 / (4 W(0))
   Real inverse_inertia_ = 1;   // 1 / (rho0 s)
   std::size_t steps_ = 0;

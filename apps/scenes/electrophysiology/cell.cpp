@@ -160,8 +160,8 @@ class CellScene final : public Scene {
                     "RMS voltage error [mV], APD90 error [ms]", {}};
     for (std::size_t s = 0; s < schemes.size(); ++s) {
       const int first = 2 + 4 * static_cast<int>(s);
-      plot.series.push_back({first, first + 1, std::string(sph::to_string(schemes[s])) + " RMS V"});
-      plot.series.push_back({first, first + 3, std::string(sph::to_string(schemes[s])) + " APD90"});
+      plot.series.push_back({first, first + 1, std::string(sph::to_string(schemes[s])) + " RMS V", ""});
+      plot.series.push_back({first, first + 3, std::string(sph::to_string(schemes[s])) + " APD90", ""});
     }
     plot_log_log(ctx.output_dir, plot);
   }

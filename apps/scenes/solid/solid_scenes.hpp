@@ -33,7 +33,7 @@ struct OscillatingBeamParameters {
   double poisson_ratio = 0.3975;
   double velocity_factor = 0.05;  ///< vf: tip speed vf c0, c0 = sqrt(K / rho)
   std::string material = "neo_hookean";  ///< neo_hookean or saint_venant_kirchhoff
-  SolidSceneNumerics numerics{.solid = {.deformation_gradient = "quadratic"}};
+  SolidSceneNumerics numerics{.solid = {.hourglass_control = "energy", .deformation_gradient = "quadratic"}};
 };
 
 struct CantileverParameters {
