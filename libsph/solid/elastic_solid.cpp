@@ -413,6 +413,9 @@ Vec<Dim> ElasticSolid<Dim>::internal_force_of(std::size_t i, std::span<const Vec
                                               std::span<const Mat<Dim>> F, std::span<const Mat<Dim>> PB) const {
   // sum_j V_j (P_i B_i + P_j B_j) grad0 W_ij + alpha E / 2 sum_j V_j W_ij / |X_ij|^2 (delta_ij^i + delta_ij^j) x_ij / |x_ij|
   // (divided by V_i: the force per unit reference volume), with the P_i B_i term taken out of the loop.
+  // Quadratic: P_i sum_j a_ij - sum_j (V_j / V_i) P_j a_ji in place of the first sum. Energy-based
+  // hourglass control: the pair part alpha E / 2 sum_j V_j W_ij / |X_ij|^2 ((F_i + F_j) X_ij - 2 x_ij)
+  // in place of the second (its F-part is in PB).
   const auto& rel = relation_;
   const Vec<Dim> x_i = x[i];
   const Mat<Dim> F_i = F[i];
