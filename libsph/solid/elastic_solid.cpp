@@ -548,15 +548,13 @@ void ElasticSolid<Dim>::apply_position_constraints(Real time) {
 
 template <int Dim>
 void ElasticSolid<Dim>::apply_velocity_constraints(Real time) {
-  // The constrained components of the acceleration are zeroed too (they carry the reaction forces).
   auto v = particles_.field(velocity_);
-  auto a = particles_.field(acceleration_);
   const auto X = particles_.field(reference_position_);
-  for (const Index i : clamped_) v[i].setZero(), a[i].setZero();
+  for (const Index i : clamped_) v[i].setZero();
   for (const auto& [set, component] : sliding_)
-    for (const Index i : set) v[i][component] = 0, a[i][component] = 0;
+    for (const Index i : set) v[i][component] = 0;
   for (const auto& motion : prescribed_)
-    for (const Index i : motion.particles) v[i] = motion.velocity(X[i], time), a[i].setZero();
+    for (const Index i : motion.particles) v[i] = motion.velocity(X[i], time);
 }
 
 template <int Dim>

@@ -168,12 +168,9 @@ class ElasticSolid {
   /// Zero-energy-mode measure: the mean over pairs of |F_i X_ij - x_ij| / |X_ij| at the current positions.
   double hourglass_measure();
 
-  /// Applies the velocity constraints (clamp, slide, prescribed motion) at `time`, e.g. after a
-  /// velocity update from outside (a quasi-static relaxation).
-  void constrain_velocities(Real time) { apply_velocity_constraints(time); }
-
   FieldHandle<Vec<Dim>> velocity_field() const { return velocity_; }
-  /// The acceleration of the last step (internal, hourglass and load forces, body force, damping excluded).
+  /// The acceleration of the last step or equilibrium_residual (internal, hourglass and load forces,
+  /// body force; damping excluded; constrained particles included).
   FieldHandle<Vec<Dim>> acceleration_field() const { return acceleration_; }
   FieldHandle<Vec<Dim>> reference_position_field() const { return reference_position_; }
   FieldHandle<Vec<Dim>> fiber_field() const { return fiber_; }

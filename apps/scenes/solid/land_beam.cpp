@@ -4,10 +4,11 @@
 //
 // Quasi-static solution by damped dynamics (libsph/solid/quasi_static.hpp), stopped when the
 // residual falls below residual_tolerance (solver = dynamic: run to end_time): the pressure is
-// ramped over ramp_time (default 0: applied at once) and held; the velocity is damped at the rate c = 2 zeta omega1, zeta the damping ratio (1: critical) of the
-// first bending mode, omega1 = 1.875^2 sqrt(E_f I / (rho A L^4)) (Euler-Bernoulli) with the
-// small-strain, incompressible fibre modulus of the law E_f = C (b_f + b_t / 2). The density only
-// sets the pseudo-time scale of this relaxation.
+// ramped over ramp_time (default 0: applied at once) and held; the velocity is damped at the rate
+// c = 2 zeta omega1, zeta the damping ratio (1: critical) of the first bending mode,
+// omega1 = 1.875^2 sqrt(E_f I / (rho A L^4)) (Euler-Bernoulli) with the small-strain, incompressible
+// fibre modulus of the law E_f = C (b_f + b_t / 2). The density only sets the pseudo-time scale of
+// this relaxation.
 #include <cmath>
 #include <optional>
 #include <stdexcept>
