@@ -251,6 +251,113 @@ TEST(ElasticSolid, ForceIsTheEnergyDerivative) {
   }
 }
 
+// A clamp by reflection (face x = 3 dp between lattice layers, three held layers): under a motion
+// u = a x, which vanishes on the face, the odd reflection continues it exactly, so F = I + a (x) e_x
+// at every free particle, the face included; the fixed clamp errs next to the face. The force is
+// the derivative of the energy through the reflection: rho0 V_m a_m = -dE/dx_m at mirror particles.
+TEST(ElasticSolid, ClampByReflectionContinuesTheMotionAcrossTheFace) {
+  const Vec3 a(Real(0.1), Real(0.05), Real(-0.02));
+  for (const char* reconstruction : {"corrected", "quadratic"}) {
+    double worst[2] = {0, 0};
+    for (const bool reflection : {false, true}) {
+      auto block = make_block(10, false);
+      auto settings = neo_hookean_settings();
+      settings.numerics.deformation_gradient = reconstruction;
+      sph::ElasticSolid<3> solid(block.body, block.relation, settings);
+      const Real face = 3 * block.dp;
+      std::vector<sph::Index> held;
+      for (std::size_t i = 0; i < block.body.n_particles(); ++i)
+        if (block.body.position[i][0] < face) held.push_back(static_cast<sph::Index>(i));
+      if (reflection) solid.clamp_by_reflection(held, Vec3(face, 0, 0), Vec3::UnitX());
+      else solid.clamp(held);
+      for (auto& x : block.body.position) x += (x[0] - face) * a;
+      solid.apply_constraints(0);
+      solid.update_output_fields();
+      const auto F = block.body.field(solid.deformation_gradient_field());
+      const auto X = block.body.field(solid.reference_position_field());
+      const Mat3 exact = Mat3::Identity() + a * Vec3::UnitX().transpose();
+      for (std::size_t i = 0; i < F.size(); ++i)
+        if (X[i][0] > face) worst[reflection] = std::max(worst[reflection], double((F[i] - exact).norm()));
+    }
+    std::printf("%s: max |F - (I + a e_x)| at the free particles: fixed clamp %.2e, reflection %.2e\n", reconstruction,
+                worst[0], worst[1]);
+    EXPECT_LT(worst[1], test::bound(1e-6, 1e-3));
+    EXPECT_GT(worst[0], 10 * worst[1] + 1e-3);
+  }
+
+  auto block = make_block(6, true);
+  auto settings = neo_hookean_settings();
+  settings.numerics.deformation_gradient = "quadratic";
+  settings.numerics.hourglass_control = "energy";
+  settings.numerics.hourglass_coefficient = 1;
+  // Jittered lattice: the mirrors are made exact by placing the held particles at the images.
+  const Real face = 2 * block.dp;
+  std::vector<sph::Index> held;
+  for (std::size_t i = 0; i < block.body.n_particles(); ++i)
+    if (block.body.position[i][0] < face) held.push_back(static_cast<sph::Index>(i));
+  auto& X0 = block.body.position;
+  for (const auto g : held) {
+    const Vec3 image(2 * face - X0[g][0], X0[g][1], X0[g][2]);
+    std::size_t nearest = 0;
+    for (std::size_t j = 0; j < X0.size(); ++j)
+      if ((X0[j] - image).norm() < (X0[nearest] - image).norm()) nearest = j;
+    X0[g] = Vec3(2 * face - X0[nearest][0], X0[nearest][1], X0[nearest][2]);
+  }
+  block.relation = sph::build_inner_relation<3>(block.body.position, sph::make_kernel<3>("wendland_c2"), Real(1.3) * block.dp);
+  sph::ElasticSolid<3> solid(block.body, block.relation, settings);
+  solid.clamp_by_reflection(held, Vec3(face, 0, 0), Vec3::UnitX());
+  std::mt19937 rng(11);
+  std::normal_distribution<double> noise(0, 0.05);
+  for (auto& x : block.body.position) x += block.dp * Vec3(Real(noise(rng)), Real(noise(rng)), Real(noise(rng)));
+  solid.apply_constraints(0);
+  solid.equilibrium_residual(0);
+  const auto acc = block.body.field(solid.acceleration_field());
+  const auto X = block.body.field(solid.reference_position_field());
+  double worst = 0, scale = 0;
+  int checked = 0;
+  for (std::size_t i = 0; i < X.size(); ++i) {
+    if (!(X[i][0] > face && X[i][0] < face + block.dp && checked < 4)) continue;  // mirrors next to the face
+    ++checked;
+    const Vec3 force = settings.density * block.body.volume[i] * acc[i];
+    Vec3 derivative;
+    const Real step = Real(1e-6) * block.dp;
+    for (int d = 0; d < 3; ++d) {
+      const Vec3 x0 = block.body.position[i];
+      block.body.position[i][d] = x0[d] + step;
+      solid.apply_constraints(0);
+      const auto up = solid.energies();
+      block.body.position[i][d] = x0[d] - step;
+      solid.apply_constraints(0);
+      const auto down = solid.energies();
+      block.body.position[i] = x0;
+      solid.apply_constraints(0);
+      derivative[d] = Real((up.strain + up.hourglass - down.strain - down.hourglass) / (2 * step));
+    }
+    worst = std::max(worst, double((force + derivative).norm()));
+    scale = std::max(scale, double(force.norm()));
+  }
+  std::printf("reflection, %d mirrors: max |rho0 V a + dE/dx| = %.2e against |force| up to %.2e\n", checked, worst, scale);
+  ASSERT_EQ(checked, 4);
+  EXPECT_LT(worst, test::bound(1e-5, 1e-2) * scale);
+}
+
+// A clamp by reflection needs a particle at the mirror image of each held particle next to the body.
+TEST(ElasticSolid, ClampByReflectionWithoutMirrorsIsRejected) {
+  auto block = make_block(6, false);
+  sph::ElasticSolid<3> solid(block.body, block.relation, neo_hookean_settings());
+  const Real face = Real(2.3) * block.dp;  // not half-way between layers
+  std::vector<sph::Index> held;
+  for (std::size_t i = 0; i < block.body.n_particles(); ++i)
+    if (block.body.position[i][0] < face) held.push_back(static_cast<sph::Index>(i));
+  try {
+    solid.clamp_by_reflection(held, Vec3(face, 0, 0), Vec3::UnitX());
+    FAIL() << "a face off the lattice's mid-plane was accepted";
+  } catch (const std::invalid_argument& e) {
+    std::printf("%s\n", e.what());
+    EXPECT_NE(std::string(e.what()).find("mirror image"), std::string::npos);
+  }
+}
+
 // The stress and hourglass forces are pairwise antisymmetric: total momentum does not change.
 TEST(ElasticSolid, ForcesConserveMomentum) {
   for (const char* reconstruction : {"corrected", "quadratic"}) {

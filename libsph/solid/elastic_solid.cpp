@@ -233,6 +233,45 @@ void ElasticSolid<Dim>::clamp(std::vector<Index> particles) {
 }
 
 template <int Dim>
+void ElasticSolid<Dim>::clamp_by_reflection(std::vector<Index> particles, const Vec<Dim>& point, const Vec<Dim>& normal) {
+  check_indices(particles, "clamp by reflection");
+  if (!(normal.norm() > 0) || !normal.allFinite() || !point.allFinite())
+    throw std::invalid_argument("solid '" + particles_.name() + "': clamp by reflection needs a finite point and a non-zero normal");
+  const std::size_t n = particles_.n_particles();
+  const Vec<Dim> unit = normal.normalized();
+  const auto X = particles_.field(reference_position_);
+  const auto& rel = relation_;
+  clamped_.insert(clamped_.end(), particles.begin(), particles.end());
+  std::vector<char> clamped(n, 0);
+  for (const Index i : clamped_) clamped[i] = 1;
+  if (rigid_.empty()) rigid_.assign(n, 0);
+  for (const Index i : particles) rigid_[i] = 1;
+  const Real tolerance = Real(1e-3) * rel.smoothing_length;
+  for (const Index g : particles) {
+    std::size_t k = rel.offsets[g];
+    while (k < rel.offsets[g + 1] && clamped[rel.neighbour[k]]) ++k;
+    if (k == rel.offsets[g + 1]) continue;  // no free neighbour: simply held
+    // Walk from the free neighbour towards the mirror image through the neighbour lists.
+    const Vec<Dim> image = X[g] - 2 * (X[g] - point).dot(unit) * unit;
+    Index m = rel.neighbour[k];
+    for (bool closer = true; closer;) {
+      closer = false;
+      for (std::size_t r = rel.offsets[m]; r < rel.offsets[m + 1]; ++r)
+        if ((X[rel.neighbour[r]] - image).squaredNorm() < (X[m] - image).squaredNorm()) {
+          m = rel.neighbour[r];
+          closer = true;
+        }
+    }
+    if ((X[m] - image).norm() > tolerance || clamped[m])
+      throw std::invalid_argument("solid '" + particles_.name() + "': clamp by reflection: particle " + std::to_string(g) + " at " +
+                                  NumericalFailure::format_position(X[g]) + " has no free particle at its mirror image " +
+                                  NumericalFailure::format_position(image));
+    reflected_.emplace_back(g, m);
+  }
+  mirror_force_.assign(n, Vec<Dim>::Zero());
+}
+
+template <int Dim>
 void ElasticSolid<Dim>::slide(std::vector<Index> particles, int component) {
   check_indices(particles, "slide");
   if (component < 0 || component >= Dim) throw std::invalid_argument("solid: sliding component out of range");
@@ -313,15 +352,6 @@ Mat<Dim> ElasticSolid<Dim>::hourglass_stress_of(std::size_t i, const Mat<Dim>& F
 }
 
 template <int Dim>
-std::size_t ElasticSolid<Dim>::first_invalid_deformation() const {
-  const auto F = particles_.field(deformation_gradient_);
-  return first_index_where(F.size(), [&](std::size_t i) {
-    const Real J = F[i].determinant();
-    return !(J > 0) || !F[i].allFinite();
-  });
-}
-
-template <int Dim>
 std::size_t ElasticSolid<Dim>::deformation_and_stress() {
   // One pass over the particles: F_i from its pair sum, then, if F_i is valid, P_i B0_i from the
   // law (only particle i's stress needs F_i). Returns the first particle with an invalid F (or n).
@@ -341,13 +371,16 @@ std::size_t ElasticSolid<Dim>::deformation_and_stress() {
         return first_index_where(n, [&](std::size_t i) {
           const Mat<Dim> Fi = deformation_gradient_of(i, x, V, B);
           F[i] = Fi;
+          const bool rigid = !rigid_.empty() && rigid_[i];  // in a clamp by reflection: F is a mirror image
           const Real J = Fi.determinant();
-          if (!(J > 0) || !Fi.allFinite()) {
+          if (!rigid && (!(J > 0) || !Fi.allFinite())) {
             PB[i].setZero();
             return true;
           }
           Mat<Dim> P;
-          if constexpr (Law::anisotropic) {
+          if (rigid) {
+            P.setZero();  // no strain energy
+          } else if constexpr (Law::anisotropic) {
             Mat<Dim> S = law.second_piola(Fi, f[i], s[i]);
             if (!T.empty()) S.noalias() += T[i] * (f[i] * f[i].transpose());
             P.noalias() = Fi * S;
@@ -502,12 +535,19 @@ typename ElasticSolid<Dim>::StepCheck ElasticSolid<Dim>::accelerations(Real time
   const bool loads = !(pressure_loads_.empty() && force_loads_.empty() && traction_loads_.empty());
   const Vec<Dim> g = settings_.body_force * (1 / settings_.numerics.mass_scaling);
   const std::size_t n = particles_.n_particles();
+  const bool reflections = !reflected_.empty();
   auto run = [&]<bool Quadratic, int Hourglass, bool Viscous>() {
+    if (reflections) {  // the force on a reflected particle acts on its mirror, reversed (u' = -u)
+      std::fill(mirror_force_.begin(), mirror_force_.end(), Vec<Dim>::Zero());
+      for (const auto& [held, m] : reflected_)
+        mirror_force_[m] -= (V[held] / V[m]) * internal_force_of<Quadratic, Hourglass, Viscous>(held, x, V, F, PB);
+    }
     return parallel_reduce(
         n, StepCheck{0, n},
         [&](std::size_t i) {
           Vec<Dim> a_i = inverse_inertia_ * internal_force_of<Quadratic, Hourglass, Viscous>(i, x, V, F, PB) + g;
           if (loads) a_i += load_acceleration_[i];
+          if (reflections) a_i += inverse_inertia_ * mirror_force_[i];
           const bool finite = finish(i, a_i);
           return StepCheck{finite ? a_i.norm() : Real(0), finite ? n : i};
         },
@@ -540,6 +580,7 @@ void ElasticSolid<Dim>::apply_position_constraints(Real time) {
   auto& x = particles_.position;
   const auto X = particles_.field(reference_position_);
   for (const Index i : clamped_) x[i] = X[i];
+  for (const auto& [g, m] : reflected_) x[g] = X[g] - (x[m] - X[m]);
   for (const auto& [set, component] : sliding_)
     for (const Index i : set) x[i][component] = X[i][component];
   for (const auto& motion : prescribed_)
@@ -551,6 +592,7 @@ void ElasticSolid<Dim>::apply_velocity_constraints(Real time) {
   auto v = particles_.field(velocity_);
   const auto X = particles_.field(reference_position_);
   for (const Index i : clamped_) v[i].setZero();
+  for (const auto& [g, m] : reflected_) v[g] = -v[m];
   for (const auto& [set, component] : sliding_)
     for (const Index i : set) v[i][component] = 0;
   for (const auto& motion : prescribed_)
@@ -672,11 +714,15 @@ typename ElasticSolid<Dim>::Energies ElasticSolid<Dim>::energies() {
   const auto v = particles_.field(velocity_);
   const auto& V = particles_.volume;
   Energies e;
-  e.kinetic = parallel_sum(v.size(), 0.0, [&](std::size_t i) { return 0.5 / inverse_inertia_ * V[i] * v[i].squaredNorm(); });
+  const auto rigid = [&](std::size_t i) { return !rigid_.empty() && rigid_[i]; };
+  e.kinetic = parallel_sum(v.size(), 0.0, [&](std::size_t i) {
+    return rigid(i) ? 0.0 : 0.5 / inverse_inertia_ * V[i] * v[i].squaredNorm();
+  });
   std::visit(
       [&](const auto& law) {
         using Law = std::decay_t<decltype(law)>;
         e.strain = parallel_sum(F.size(), 0.0, [&](std::size_t i) {
+          if (rigid(i)) return 0.0;
           if constexpr (Law::anisotropic)
             return double(V[i] * law.energy(F[i], particles_.field(fiber_)[i], particles_.field(sheet_)[i]));
           else
@@ -697,11 +743,11 @@ typename ElasticSolid<Dim>::Energies ElasticSolid<Dim>::energies() {
       return sum;
     });
   }
-  e.min_jacobian = parallel_reduce(F.size(), std::numeric_limits<Real>::infinity(),
-                                   [&](std::size_t i) { return F[i].determinant(); },
+  // The J range of the body (the particles of a clamp by reflection carry a mirrored F).
+  const Real inf = std::numeric_limits<Real>::infinity();
+  e.min_jacobian = parallel_reduce(F.size(), inf, [&](std::size_t i) { return rigid(i) ? inf : F[i].determinant(); },
                                    [](Real p, Real q) { return std::min(p, q); });
-  e.max_jacobian = parallel_max(F.size(), -std::numeric_limits<Real>::infinity(),
-                                [&](std::size_t i) { return F[i].determinant(); });
+  e.max_jacobian = parallel_max(F.size(), -inf, [&](std::size_t i) { return rigid(i) ? -inf : F[i].determinant(); });
   return e;
 }
 

@@ -129,6 +129,14 @@ class ElasticSolid {
   // Boundary conditions (may be combined; applied in the order clamp, slide, prescribed motion).
   /// Particles held at their reference positions with zero velocity.
   void clamp(std::vector<Index> particles);
+  /// Particles held at zero displacement on the far side of the clamp face, the plane through
+  /// `point` with normal `normal`, by odd reflection: a clamped particle next to free ones moves
+  /// with u(X) = -u(X'), X' its mirror image in the face (which must be a particle, as on a lattice
+  /// whose face lies half-way between layers). The reconstruction of F near the face then sees the
+  /// smooth extension of the displacement instead of its kink. These particles store no strain
+  /// energy and no kinetic energy; the force on a reflected particle acts, reversed, on its mirror
+  /// (the derivative of the energy through u(X) = -u(X')).
+  void clamp_by_reflection(std::vector<Index> particles, const Vec<Dim>& point, const Vec<Dim>& normal);
   /// Particles whose `component` of position stays at its reference value (sliding support).
   void slide(std::vector<Index> particles, int component);
   /// Particles moved along x = position(X, t), v = velocity(X, t).
@@ -146,6 +154,12 @@ class ElasticSolid {
   void add_traction_load(std::vector<Index> particles, std::vector<Real> area,
                          std::function<Vec<Dim>(Real time)> traction);
 
+  /// Imposes the boundary conditions on the current positions and velocities (as a step does), e.g.
+  /// after setting a state by hand.
+  void apply_constraints(Real time) {
+    apply_position_constraints(time);
+    apply_velocity_constraints(time);
+  }
   /// Advances by one position-based Verlet step from `time` by dt (a TimeStepper stage).
   void advance(Real time, Real dt);
   /// Stable step from the acoustic and acceleration criteria (see above), or the fixed step if set.
@@ -216,8 +230,6 @@ class ElasticSolid {
                                    std::span<const Mat<Dim>> B) const;
   /// H_i of the hourglass energy (its F-part acts as the stress alpha E / 2 H_i).
   Mat<Dim> hourglass_stress_of(std::size_t i, const Mat<Dim>& F_i, std::span<const Vec<Dim>> x, std::span<const Real> V) const;
-  /// First particle with a non-finite F or J <= 0, or n.
-  std::size_t first_invalid_deformation() const;
   /// F and the stress P B0 of every particle in one pass; the first particle with an invalid F, or n.
   std::size_t deformation_and_stress();
   std::span<const Vec<Dim>> anisotropic_field(FieldHandle<Vec<Dim>> handle) const {
@@ -278,6 +290,9 @@ class ElasticSolid {
   FieldHandle<Real> jacobian_, von_mises_, fiber_stretch_, active_tension_;
 
   std::vector<Index> clamped_;
+  std::vector<std::pair<Index, Index>> reflected_;  // (clamped particle, its free mirror)
+  std::vector<char> rigid_;                         // per particle: in a clamp by reflection (or empty)
+  std::vector<Vec<Dim>> mirror_force_;              // scratch: reflected forces per unit volume of the mirror
   std::vector<std::pair<std::vector<Index>, int>> sliding_;
   std::vector<PrescribedMotion> prescribed_;
   std::vector<PressureLoad> pressure_loads_;

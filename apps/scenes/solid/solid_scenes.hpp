@@ -33,6 +33,7 @@ struct OscillatingBeamParameters {
   double poisson_ratio = 0.3975;
   double velocity_factor = 0.05;  ///< vf: tip speed vf c0, c0 = sqrt(K / rho)
   std::string material = "neo_hookean";  ///< neo_hookean or saint_venant_kirchhoff
+  std::string clamp = "reflection";  ///< reflection or fixed (see ElasticSolid::clamp_by_reflection)
   SolidSceneNumerics numerics{.solid = {.hourglass_control = "energy", .deformation_gradient = "quadratic"}};
 };
 
@@ -74,6 +75,7 @@ struct LandBeamParameters {
   double density = 1;           ///< [mg/mm^3] (only sets the pseudo-dynamics of the relaxation)
   double damping_ratio = 1;     ///< fraction of critical damping of the first bending mode
   std::string solver = "quasi_static";  ///< quasi_static (stop on the residual) or dynamic (to end_time)
+  std::string clamp = "reflection";     ///< reflection or fixed (see ElasticSolid::clamp_by_reflection)
   sph::RelaxationSettings relaxation;
   SolidSceneNumerics numerics{.solid = {.deformation_gradient = "quadratic"}};
 };
