@@ -4,8 +4,9 @@
 // with a volumetric penalty; units mm, ms, kPa, mg/mm^3.
 //   problem 2: C = 10 kPa, b_f = b_t = b_fs = 1, endocardial pressure 10 kPa;
 //   problem 3: C = 2 kPa, b_f = 8, b_t = 2, b_fs = 4, fibre angle +90 degrees at the endocardium to
-//              -90 at the epicardium (LDRB, linear through the wall), pressure 15 kPa and active
-//              tension T_a = 60 kPa along the fibres (S_a = T_a f0 (x) f0).
+//              -90 at the epicardium, linear through the wall on the benchmark's prolate-spheroidal
+//              coordinates (set_prolate_fibres; fibre_rule = ldrb takes the geometry's LDRB field),
+//              pressure 15 kPa and active tension T_a = 60 kPa along the fibres (S_a = T_a f0 (x) f0).
 // The loads are ramped linearly over ramp_time and held; the quasi-static state is reached by
 // damped dynamics (the density only sets the pseudo-time scale). The pressure acts on the
 // endocardial faces of the mesh as a follower load (cardio/cavity.hpp).
@@ -15,6 +16,7 @@
 // benchmark scripts): problem 2 endocardial apex -26.6 mm (codes between -26.9 and -26.4),
 // epicardial -28.3 (-28.5 to -28.1), mid-wall -27.3 (-27.6 to -27.1); problem 3: one refined
 // participant's solution, endocardial -12.35 and epicardial -15.45 mm (no spread tabulated).
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <iostream>
@@ -51,8 +53,42 @@ struct LandLvParameters {
   double density = 1;
   double damping_rate = 0.1;
   double pressure = 0, active_tension = -1, stiffness = 0;  ///< 0 / -1: the problem's value
+  std::string fibre_rule = "prolate";  ///< problem 3: prolate (the paper's definition) or ldrb (the geometry's)
   SolidSceneNumerics numerics;
 };
+
+// The fibre field of problem 3 as Land et al. 2015 (section 2, problem 3) define it: the wall is
+// the family of prolate surfaces x = r_s sin u cos v, y = r_s sin u sin v, z = r_l cos u with
+// r_s = 7 + 3t, r_l = 17 + 3t (t = 0 endocardium, 1 epicardium), and the fibre is
+// f = sin(alpha) e_u + cos(alpha) e_v with e_u, e_v the unit tangents along u and v and alpha running
+// linearly from 90 degrees at t = 0 to -90 at t = 1. It lies in the tangent plane of the wall
+// everywhere. (The sign of alpha only mirrors the solution about a plane through the axis; the apex
+// positions do not depend on it.) The sheet is the wall normal e_u x e_v. Each particle gets the
+// t of the surface through it (bisection on (x^2 + y^2) / r_s(t)^2 + z^2 / r_l(t)^2 = 1, clamped to [0, 1]).
+void set_prolate_fibres(sph::ElasticSolid<3>& solid) {
+  auto& body = solid.particles();
+  const auto X = body.field(solid.reference_position_field());
+  auto f = body.field(solid.fiber_field());
+  auto s = body.field(solid.sheet_field());
+  for (std::size_t i = 0; i < body.n_particles(); ++i) {
+    const double x = X[i][0], y = X[i][1], z = X[i][2], r = std::hypot(x, y);
+    double low = -1, high = 2;  // the left side falls with t
+    for (int it = 0; it < 60; ++it) {
+      const double t = (low + high) / 2, rs = 7 + 3 * t, rl = 17 + 3 * t;
+      ((r * r) / (rs * rs) + (z * z) / (rl * rl) > 1 ? low : high) = t;
+    }
+    const double t = std::clamp((low + high) / 2, 0.0, 1.0), rs = 7 + 3 * t, rl = 17 + 3 * t;
+    double sin_u = -r / rs, cos_u = z / rl;  // u in (-pi, 0): sin u <= 0
+    const double norm = std::hypot(sin_u, cos_u);
+    sin_u /= norm, cos_u /= norm;
+    const double cos_v = r > 1e-9 ? -x / r : 1, sin_v = r > 1e-9 ? -y / r : 0;  // x = r_s sin u cos v with sin u < 0
+    const Vec3 e_u = Vec3(Real(rs * cos_u * cos_v), Real(rs * cos_u * sin_v), Real(-rl * sin_u)).normalized();
+    const Vec3 e_v = Vec3(Real(-sin_v), Real(cos_v), 0) * Real(sin_u < 0 ? -1 : 1);  // along dx/dv = r_s sin u (-sin v, cos v, 0)
+    const double alpha = (90 - 180 * t) * M_PI / 180;
+    f[i] = (Real(std::sin(alpha)) * e_u + Real(std::cos(alpha)) * e_v).normalized();
+    s[i] = e_u.cross(e_v).normalized();
+  }
+}
 
 class LandLvScene final : public Scene {
  public:
@@ -75,6 +111,9 @@ class LandLvScene final : public Scene {
     p.add("pressure", p_.pressure, "kPa", "endocardial pressure (0: the problem's, 10 or 15)", sph::Range::non_negative());
     p.add("active_tension", p_.active_tension, "kPa", "active tension (-1: the problem's, 0 or 60)", sph::Range::closed(-1, 1e6));
     p.add("stiffness", p_.stiffness, "kPa", "Guccione C (0: the problem's, 10 or 2)", sph::Range::non_negative());
+    p.add_choice("fibre_rule", p_.fibre_rule, {"prolate", "ldrb"},
+                 "problem 3 fibres: prolate (the benchmark's definition on prolate-spheroidal coordinates, tangent to the "
+                 "wall everywhere) or ldrb (the geometry's LDRB field, +90 to -90 degrees)");
     declare_solid_numerics(p, p_.numerics, "ms");
   }
 
@@ -110,6 +149,7 @@ class LandLvScene final : public Scene {
     settings.numerics = p_.numerics.solid;
     sph::ElasticSolid<3> solid(body, relation, settings);
     attach_heart_geometry(solid, g, "land-lv");
+    if (p3 && p_.fibre_rule == "prolate") set_prolate_fibres(solid);
 
     const auto mesh = read_geometry_mesh(gs);
     std::vector<Real> volumes(body.volume.begin(), body.volume.end());
