@@ -30,6 +30,9 @@ void declare_parameters(Parameters& p, SolidNumerics& n, const std::string& time
   p.add_choice("deformation_gradient", n.deformation_gradient, {"corrected", "quadratic"},
                "reconstruction of F: corrected (kernel-corrected gradient, exact for linear motion) or quadratic (weighted "
                "least squares, exact for quadratic motion, also at free surfaces)");
+  p.add_choice("quadrature", n.quadrature, {"nodal", "gauss"},
+               "integration of each particle's energy: nodal (at the particle) or gauss (2^Dim Gauss points in its cell, F "
+               "continued by its gradient; needs deformation_gradient = quadratic)");
   p.add("fixed_time_step", n.fixed_time_step, time_unit,
         "fixed solid time step instead of the acoustic one (0: acoustic); no stability guarantee", Range::non_negative());
 }
@@ -117,6 +120,10 @@ ElasticSolid<Dim>::ElasticSolid(ParticleSet<Dim>& particles, const InnerRelation
     throw std::invalid_argument(body + ": hourglass control '" + settings_.numerics.hourglass_control +
                                 "' is neither 'penalty' nor 'energy'");
   energy_hourglass_ = settings_.numerics.hourglass_control == "energy" && hourglass_factor_ > 0;
+  if (settings_.numerics.quadrature != "nodal" && settings_.numerics.quadrature != "gauss")
+    throw std::invalid_argument(body + ": quadrature '" + settings_.numerics.quadrature + "' is neither 'nodal' nor 'gauss'");
+  if (settings_.numerics.quadrature == "gauss" && settings_.numerics.deformation_gradient != "quadratic")
+    throw std::invalid_argument(body + ": quadrature 'gauss' needs deformation_gradient 'quadratic' (the gradient of F)");
   if (settings_.numerics.deformation_gradient == "quadratic")
     build_quadratic_reconstruction();
   else if (settings_.numerics.deformation_gradient != "corrected")
@@ -126,6 +133,27 @@ ElasticSolid<Dim>::ElasticSolid(ParticleSet<Dim>& particles, const InnerRelation
   previous_velocity_.resize(n);
   load_acceleration_.resize(n);
 }
+
+namespace {
+
+// The Gauss points of a particle's cell of edge l = V^(1/Dim), as offsets l * u_k from the particle:
+// the Dim + 1 vertices of a regular simplex at the radius l sqrt(Dim / 12), so that the mean of the
+// offsets is 0 and the mean of xi xi^T is l^2 / 12 I, the second moment of the cell: the rule
+// integrates any quadratic over the cell exactly, as the 2^Dim-point product rule does, with half
+// the points in 3D.
+template <int Dim>
+std::array<Vec<Dim>, Dim + 1> cell_quadrature_points() {
+  std::array<Vec<Dim>, Dim + 1> u;
+  if constexpr (Dim == 2) {
+    u = {Vec<2>(0, 1), Vec<2>(-std::sqrt(Real(3)) / 2, Real(-0.5)), Vec<2>(std::sqrt(Real(3)) / 2, Real(-0.5))};
+  } else {
+    u = {Vec<3>(1, 1, 1), Vec<3>(1, -1, -1), Vec<3>(-1, 1, -1), Vec<3>(-1, -1, 1)};
+  }
+  for (auto& v : u) v *= std::sqrt(Real(Dim) / 12) / v.norm();
+  return u;
+}
+
+}  // namespace
 
 template <int Dim>
 void ElasticSolid<Dim>::build_quadratic_reconstruction() {
@@ -154,6 +182,14 @@ void ElasticSolid<Dim>::build_quadratic_reconstruction() {
       for (int b = a; b < Dim; ++b) p[m++] = xi[a] * xi[b];
     return p;
   };
+  // Second derivatives (quadrature = "gauss"): d2x/dX_a dX_b = c_(ab) (a == b ? 2 : 1) / h^2 from the
+  // coefficient c_(ab) of the monomial xi_a xi_b, so that G_d = dF/dX_d has the column
+  // G_d e = sum_j (x_j - x_i) C_ij(e, d).
+  const bool gauss = settings_.numerics.quadrature == "gauss";
+  int monomial[Dim][Dim];
+  for (int a = 0, m = Dim; a < Dim; ++a)
+    for (int b = a; b < Dim; ++b) monomial[a][b] = monomial[b][a] = m++;
+  std::vector<Mat<Dim>> curvature(gauss ? rel.n_pairs() : 0);
   std::vector<Vec<Dim>> corrected(rel.n_pairs()), weights(rel.n_pairs());
   parallel_for(n, [&](std::size_t i) {
     Moment M = Moment::Zero();
@@ -167,8 +203,16 @@ void ElasticSolid<Dim>::build_quadratic_reconstruction() {
     for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
       const Index j = rel.neighbour[k];
       corrected[k] = V[j] * (B[i] * pair_gradient_[k].vector().template cast<Real>());
-      weights[k] = quadratic ? Vec<Dim>((V[j] * rel.kernel_value[k] / h) * ldlt.solve(basis((X[j] - X[i]) / h)).template head<Dim>())
-                             : corrected[k];
+      if (!quadratic) {
+        weights[k] = corrected[k];
+        if (gauss) curvature[k].setZero();  // no gradient of F: the Gauss points see F_i
+        continue;
+      }
+      const Basis solution = (V[j] * rel.kernel_value[k]) * ldlt.solve(basis((X[j] - X[i]) / h));
+      weights[k] = solution.template head<Dim>() / h;
+      if (gauss)
+        for (int d = 0; d < Dim; ++d)
+          for (int e = 0; e < Dim; ++e) curvature[k](e, d) = solution[monomial[d][e]] * Real(d == e ? 2 : 1) / (h * h);
     }
   });
   // a_ji beside a_ij (the relation is symmetric: i is among the neighbours of j), and sum_j a_ij.
@@ -204,8 +248,36 @@ void ElasticSolid<Dim>::build_quadratic_reconstruction() {
       return bound;
     });
   };
-  const Real ratio = gershgorin(weights) / gershgorin(corrected);
+  if (gauss) {
+    cell_size_.resize(n);
+    parallel_for(n, [&](std::size_t i) { cell_size_[i] = std::pow(V[i], Real(1) / Dim); });
+  }
+  // With Gauss points the stiffness is the mean over the points of the maps to F_g, whose weights
+  // are a_ij + sum_d xi_gd c_ij.col(d): bounded by the largest of their bounds.
+  Real stiffest = gershgorin(weights);
+  for (const Vec<Dim>& u : gauss ? cell_quadrature_points<Dim>() : std::array<Vec<Dim>, Dim + 1>{}) {
+    if (!gauss) break;
+    std::vector<Vec<Dim>> point(rel.n_pairs());
+    parallel_for(n, [&](std::size_t i) {
+      for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) point[k] = weights[k] + cell_size_[i] * (curvature[k] * u);
+    });
+    stiffest = std::max(stiffest, gershgorin(point));
+  }
+  const Real ratio = stiffest / gershgorin(corrected);
   step_factor_ = ratio > 1 ? 1 / std::sqrt(ratio) : Real(1);
+  if (gauss) {
+    pair_curvature_.resize(rel.n_pairs());
+    c_sum_.assign(n, Mat<Dim>::Zero());
+    gauss_moment_.assign(n, {});
+    parallel_for(n, [&](std::size_t i) {
+      for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
+        pair_curvature_[k].c = curvature[k].template cast<PairReal>();
+        pair_curvature_[k].reverse = curvature[reverse[k]].template cast<PairReal>();
+        c_sum_[i] += pair_curvature_[k].c.template cast<Real>();
+      }
+      for (auto& Q : gauss_moment_[i]) Q.setZero();
+    });
+  }
   pair_weights_.resize(rel.n_pairs());
   a_sum_.assign(n, Vec<Dim>::Zero());
   parallel_for(n, [&](std::size_t i) {
@@ -337,6 +409,36 @@ Mat<Dim> ElasticSolid<Dim>::deformation_gradient_of(std::size_t i, std::span<con
 }
 
 template <int Dim>
+std::array<Mat<Dim>, Dim> ElasticSolid<Dim>::gradient_of_deformation(std::size_t i, std::span<const Vec<Dim>> x) const {
+  const auto& rel = relation_;
+  std::array<Mat<Dim>, Dim> G;
+  for (auto& Gd : G) Gd.setZero();
+  const Vec<Dim> x_i = x[i];
+  for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
+    const Vec<Dim> dx = x[rel.neighbour[k]] - x_i;
+    const Mat<Dim> c = pair_curvature_[k].c.template cast<Real>();
+    for (int d = 0; d < Dim; ++d) G[d].noalias() += dx * c.col(d).transpose();
+  }
+  return G;
+}
+
+template <int Dim>
+template <class Law>
+Real ElasticSolid<Dim>::cell_energy(std::size_t i, const Law& law, const Mat<Dim>& F_i, std::span<const Vec<Dim>> x) const {
+  const Vec<Dim> f = fiber_.valid() ? particles_.field(fiber_)[i] : Vec<Dim>::Zero();
+  const Vec<Dim> s = sheet_.valid() ? particles_.field(sheet_)[i] : Vec<Dim>::Zero();
+  if (pair_curvature_.empty()) return law.energy(F_i, f, s);
+  const auto G = gradient_of_deformation(i, x);
+  Real sum = 0;
+  for (const Vec<Dim>& u : cell_quadrature_points<Dim>()) {
+    Mat<Dim> Fg = F_i;
+    for (int d = 0; d < Dim; ++d) Fg += (cell_size_[i] * u[d]) * G[d];
+    sum += law.energy(Fg, f, s);
+  }
+  return sum / Real(Dim + 1);
+}
+
+template <int Dim>
 Mat<Dim> ElasticSolid<Dim>::hourglass_stress_of(std::size_t i, const Mat<Dim>& F_i, std::span<const Vec<Dim>> x,
                                                 std::span<const Real> V) const {
   // H_i = sum_j V_j W_ij / r0^2 e_ij (x) X_ij, e_ij = F_i X_ij - x_ij: the F-part of the derivative of
@@ -361,6 +463,8 @@ std::size_t ElasticSolid<Dim>::deformation_and_stress() {
   auto F = particles_.field(deformation_gradient_);
   auto PB = particles_.field(stress_correction_);
   const std::size_t n = particles_.n_particles();
+  const bool gauss = !pair_curvature_.empty();
+  const auto points = cell_quadrature_points<Dim>();
   return std::visit(
       [&](const auto& law) {
         using Law = std::decay_t<decltype(law)>;
@@ -377,16 +481,39 @@ std::size_t ElasticSolid<Dim>::deformation_and_stress() {
             PB[i].setZero();
             return true;
           }
-          Mat<Dim> P;
-          if (rigid) {
-            P.setZero();  // no strain energy
-          } else if constexpr (Law::anisotropic) {
-            Mat<Dim> S = law.second_piola(Fi, f[i], s[i]);
-            if (!T.empty()) S.noalias() += T[i] * (f[i] * f[i].transpose());
-            P.noalias() = Fi * S;
-          } else {
-            const Vec<Dim> none = Vec<Dim>::Zero();
-            P.noalias() = Fi * law.second_piola(Fi, none, none);
+          auto stress_at = [&](const Mat<Dim>& Fg) -> Mat<Dim> {
+            if constexpr (Law::anisotropic) {
+              Mat<Dim> S = law.second_piola(Fg, f[i], s[i]);
+              if (!T.empty()) S.noalias() += T[i] * (f[i] * f[i].transpose());
+              return Fg * S;
+            } else {
+              const Vec<Dim> none = Vec<Dim>::Zero();
+              return Fg * law.second_piola(Fg, none, none);
+            }
+          };
+          Mat<Dim> P = Mat<Dim>::Zero();
+          if (gauss) {
+            auto& Q = gauss_moment_[i];
+            for (auto& Qd : Q) Qd.setZero();
+            if (!rigid) {  // the mean of P and of xi_d P over the 2^Dim Gauss points of the cell
+              const auto G = gradient_of_deformation(i, x);
+              for (const Vec<Dim>& u : points) {
+                const Vec<Dim> xi = cell_size_[i] * u;
+                Mat<Dim> Fg = Fi;
+                for (int d = 0; d < Dim; ++d) Fg += xi[d] * G[d];
+                if (!(Fg.determinant() > 0) || !Fg.allFinite()) {
+                  PB[i].setZero();
+                  return true;
+                }
+                const Mat<Dim> Pg = stress_at(Fg);
+                P += Pg;
+                for (int d = 0; d < Dim; ++d) Q[d] += xi[d] * Pg;
+              }
+              P /= Real(Dim + 1);
+              for (auto& Qd : Q) Qd /= Real(Dim + 1);
+            }
+          } else if (!rigid) {
+            P = stress_at(Fi);  // (a clamp by reflection stores no strain energy)
           }
           if (energy_hourglass_) P.noalias() += hourglass_factor_ * hourglass_stress_of(i, Fi, x, V);
           PB[i].noalias() = P * B[i];
@@ -456,12 +583,17 @@ Vec<Dim> ElasticSolid<Dim>::internal_force_of(std::size_t i, std::span<const Vec
            viscous_force = Vec<Dim>::Zero(), viscous_weighted_sum = Vec<Dim>::Zero();
   const auto& v = previous_velocity_;  // the velocities at the start of the step (the field is being updated)
   const Vec<Dim> v_i = v[i];
+  const bool gauss = !pair_curvature_.empty();  // Gauss points: + sum_d Q_d,i c_sum_i.col(d) - sum_j (V_j / V_i) sum_d Q_d,j c_ji.col(d)
   for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
     const Index j = rel.neighbour[k];
     const PairGradient& g = pair_gradient_[k];
     const Vec<Dim> w = V[j] * g.vector().template cast<Real>();  // V_j grad0 W_ij
     if constexpr (Quadratic) {
       stress_force.noalias() += V[j] * (PB[j] * pair_weights_[k].reverse.template cast<Real>());
+      if (gauss) {  // sum_d Q_d,j c_ji.col(d)
+        const Mat<Dim> c = pair_curvature_[k].reverse.template cast<Real>();
+        for (int d = 0; d < Dim; ++d) stress_force.noalias() += V[j] * (gauss_moment_[j][d] * c.col(d));
+      }
     } else {
       weighted_sum += w;
       stress_force.noalias() += PB[j] * w;
@@ -482,8 +614,12 @@ Vec<Dim> ElasticSolid<Dim>::internal_force_of(std::size_t i, std::span<const Vec
       viscous_force.noalias() += F[j] * rate_w;
     }
   }
-  if constexpr (Quadratic)
-    stress_force = PB[i] * a_sum_[i] - stress_force / V[i];
+  if constexpr (Quadratic) {
+    Vec<Dim> own = PB[i] * a_sum_[i];
+    if (gauss)
+      for (int d = 0; d < Dim; ++d) own.noalias() += gauss_moment_[i][d] * c_sum_[i].col(d);
+    stress_force = own - stress_force / V[i];
+  }
   else
     stress_force.noalias() += PB[i] * weighted_sum;
   if constexpr (Viscous) stress_force += viscosity_factor_ * (viscous_force + F_i * viscous_weighted_sum);
@@ -722,11 +858,7 @@ typename ElasticSolid<Dim>::Energies ElasticSolid<Dim>::energies() {
       [&](const auto& law) {
         using Law = std::decay_t<decltype(law)>;
         e.strain = parallel_sum(F.size(), 0.0, [&](std::size_t i) {
-          if (rigid(i)) return 0.0;
-          if constexpr (Law::anisotropic)
-            return double(V[i] * law.energy(F[i], particles_.field(fiber_)[i], particles_.field(sheet_)[i]));
-          else
-            return double(V[i] * law.energy(F[i], Vec<Dim>::Zero().eval(), Vec<Dim>::Zero().eval()));
+          return rigid(i) ? 0.0 : double(V[i] * cell_energy(i, law, F[i], particles_.position));
         });
       },
       settings_.material);

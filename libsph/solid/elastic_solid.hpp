@@ -60,6 +60,7 @@
 // velocities restored to the start of the step, the last good state) and NumericalFailure names
 // the particle, its position, the time and the quantity.
 
+#include <array>
 #include <functional>
 #include <span>
 #include <string>
@@ -93,6 +94,10 @@ struct SolidNumerics {
   /// linear motion) or "quadratic" (weighted least squares on a quadratic basis, exact for quadratic
   /// motion at free surfaces too); see docs/solid.md.
   std::string deformation_gradient = "corrected";
+  /// How the energy of a particle's cell is integrated: "nodal" (V_i W(F_i), the midpoint rule) or
+  /// "gauss" (2^Dim Gauss points in the cell, F continued linearly by the gradient of F that the
+  /// quadratic reconstruction gives; needs deformation_gradient = "quadratic"); see docs/solid.md.
+  std::string quadrature = "nodal";
 };
 
 /// Declares hourglass_coefficient, artificial_viscosity, acoustic_cfl, tangent_time_step, mass_scaling and
@@ -277,6 +282,24 @@ class ElasticSolid {
   Vec<Dim> stress_divergence_of(std::size_t i, std::span<const Real> V, std::span<const Mat<Dim>> PB) const;
   std::vector<PairWeights> pair_weights_;
   std::vector<Vec<Dim>> a_sum_;
+  // Gauss quadrature in the cells (quadrature = "gauss"): the gradient of F at i,
+  // G_d,i = dF/dX_d = sum_j (x_j - x_i) (x) c_ij.col(d), from the second-derivative weights of the
+  // quadratic fit, stored with their reverse c_ji per pair; c_sum_ = sum_j c_ij. At the Dim + 1 Gauss
+  // points of the cell (edge cell_size_ = V_i^(1/Dim)), F_g = F_i + sum_d xi_gd G_d,i; the stress P_i
+  // is then the mean of P(F_g) and gauss_moment_[i][d] = Q_d,i the mean of xi_gd P(F_g).
+  using PairMatrix = Eigen::Matrix<PairReal, Dim, Dim>;
+  struct PairCurvature {
+    PairMatrix c, reverse;
+  };
+  std::vector<PairCurvature> pair_curvature_;
+  std::vector<Mat<Dim>> c_sum_;
+  std::vector<std::array<Mat<Dim>, Dim>> gauss_moment_;
+  std::vector<Real> cell_size_;
+  /// G_d,i (d = 0 .. Dim-1) at the positions x.
+  std::array<Mat<Dim>, Dim> gradient_of_deformation(std::size_t i, std::span<const Vec<Dim>> x) const;
+  /// The mean of W(F_g) over the Gauss points of particle i (quadrature = "gauss").
+  template <class Law>
+  Real cell_energy(std::size_t i, const Law& law, const Mat<Dim>& F_i, std::span<const Vec<Dim>> x) const;
   Real step_factor_ = 1;  // the acoustic step's factor for the reconstruction's stiffest mode
   void build_quadratic_reconstruction();
   Real sound_speed_ = 0, current_sound_speed_ = 0;
