@@ -34,7 +34,7 @@ struct OscillatingBeamParameters {
   double velocity_factor = 0.05;  ///< vf: tip speed vf c0, c0 = sqrt(K / rho)
   std::string material = "neo_hookean";  ///< neo_hookean or saint_venant_kirchhoff
   std::string clamp = "reflection";  ///< reflection or fixed (see ElasticSolid::clamp_by_reflection)
-  SolidSceneNumerics numerics{.solid = {.hourglass_control = "energy", .deformation_gradient = "quadratic"}};
+  SolidSceneNumerics numerics{.solid = {.hourglass_control = "energy", .deformation_gradient = "quadratic", .quadrature = "gauss"}};
 };
 
 struct CantileverParameters {
@@ -65,7 +65,7 @@ struct TwistingColumnParameters {
 };
 
 struct LandBeamParameters {
-  long resolution = 6;          ///< particles across the 1 mm thickness
+  long resolution = 4;          ///< particles across the 1 mm thickness
   double end_time = 450;        ///< [ms]
   double pressure = 0.004;      ///< [kPa] on the bottom face
   double ramp_time = 0;         ///< [ms] linear ramp of the pressure (0: applied at once)
@@ -77,7 +77,7 @@ struct LandBeamParameters {
   std::string solver = "quasi_static";  ///< quasi_static (stop on the residual) or dynamic (to end_time)
   std::string clamp = "reflection";     ///< reflection or fixed (see ElasticSolid::clamp_by_reflection)
   sph::RelaxationSettings relaxation;
-  SolidSceneNumerics numerics{.solid = {.deformation_gradient = "quadratic"}};
+  SolidSceneNumerics numerics{.solid = {.deformation_gradient = "quadratic", .quadrature = "gauss"}};
 };
 
 struct HomogeneousDeformationParameters {
