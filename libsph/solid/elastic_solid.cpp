@@ -31,7 +31,7 @@ void declare_parameters(Parameters& p, SolidNumerics& n, const std::string& time
                "reconstruction of F: corrected (kernel-corrected gradient, exact for linear motion) or quadratic (weighted "
                "least squares, exact for quadratic motion, also at free surfaces)");
   p.add_choice("quadrature", n.quadrature, {"nodal", "gauss"},
-               "integration of each particle's energy: nodal (at the particle) or gauss (2^Dim Gauss points in its cell, F "
+               "integration of each particle's energy: nodal (at the particle) or gauss (Dim + 1 Gauss points in its cell, F "
                "continued by its gradient; needs deformation_gradient = quadratic)");
   p.add("fixed_time_step", n.fixed_time_step, time_unit,
         "fixed solid time step instead of the acoustic one (0: acoustic); no stability guarantee", Range::non_negative());
@@ -255,13 +255,14 @@ void ElasticSolid<Dim>::build_quadratic_reconstruction() {
   // With Gauss points the stiffness is the mean over the points of the maps to F_g, whose weights
   // are a_ij + sum_d xi_gd c_ij.col(d): bounded by the largest of their bounds.
   Real stiffest = gershgorin(weights);
-  for (const Vec<Dim>& u : gauss ? cell_quadrature_points<Dim>() : std::array<Vec<Dim>, Dim + 1>{}) {
-    if (!gauss) break;
+  if (gauss) {
     std::vector<Vec<Dim>> point(rel.n_pairs());
-    parallel_for(n, [&](std::size_t i) {
-      for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) point[k] = weights[k] + cell_size_[i] * (curvature[k] * u);
-    });
-    stiffest = std::max(stiffest, gershgorin(point));
+    for (const Vec<Dim>& u : cell_quadrature_points<Dim>()) {
+      parallel_for(n, [&](std::size_t i) {
+        for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) point[k] = weights[k] + cell_size_[i] * (curvature[k] * u);
+      });
+      stiffest = std::max(stiffest, gershgorin(point));
+    }
   }
   const Real ratio = stiffest / gershgorin(corrected);
   step_factor_ = ratio > 1 ? 1 / std::sqrt(ratio) : Real(1);
@@ -495,7 +496,7 @@ std::size_t ElasticSolid<Dim>::deformation_and_stress() {
           if (gauss) {
             auto& Q = gauss_moment_[i];
             for (auto& Qd : Q) Qd.setZero();
-            if (!rigid) {  // the mean of P and of xi_d P over the 2^Dim Gauss points of the cell
+            if (!rigid) {  // the mean of P and of xi_d P over the Dim + 1 Gauss points of the cell
               const auto G = gradient_of_deformation(i, x);
               for (const Vec<Dim>& u : points) {
                 const Vec<Dim> xi = cell_size_[i] * u;
@@ -763,7 +764,10 @@ void ElasticSolid<Dim>::advance(Real time, Real dt) {
   // Two passes over the pairs: F and the stress, then the forces with the velocity update.
   if (const std::size_t bad = deformation_and_stress(); bad < n) {
     const Real J = particles_.field(deformation_gradient_)[bad].determinant();
-    fail(bad, time + half, "deformation gradient", std::isfinite(J) ? "has J = " + std::to_string(J) + " <= 0 (inverted)" : "is not finite");
+    const std::string problem = !std::isfinite(J) ? "is not finite"
+                                : J > 0 ? "is inverted at a Gauss point of the particle's cell (J = " + std::to_string(J) + " at the particle)"
+                                        : "has J = " + std::to_string(J) + " <= 0 (inverted)";
+    fail(bad, time + half, "deformation gradient", problem);
   }
   if (steps_++ % static_cast<std::size_t>(settings_.numerics.stiffness_update_interval) == 0 &&
       settings_.numerics.tangent_time_step)
