@@ -109,7 +109,7 @@ SweepResult run_sweep(const std::string& scene_name, const Sweep& sweep, const C
       const double e0 = reports[k].errors.value(e, std::nan("")), e1 = reports[k + 1].errors.value(e, std::nan(""));
       if (parse_number(sweep.values[k], v0) && parse_number(sweep.values[k + 1], v1) && v0 > 0 && v1 > 0 && v0 != v1 &&
           e0 > 0 && e1 > 0)
-        std::cout << ' ' << std::log(e0 / e1) / std::log(v1 / v0);
+        std::cout << ' ' << std::log(e0 / e1) / std::abs(std::log(v1 / v0));  // a resolution or a spacing
       else
         std::cout << " n/a";
     }
