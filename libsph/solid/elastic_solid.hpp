@@ -95,7 +95,7 @@ struct SolidNumerics {
   /// motion at free surfaces too); see docs/solid.md.
   std::string deformation_gradient = "corrected";
   /// How the energy of a particle's cell is integrated: "nodal" (V_i W(F_i), the midpoint rule) or
-  /// "gauss" (2^Dim Gauss points in the cell, F continued linearly by the gradient of F that the
+  /// "gauss" (Dim + 1 Gauss points in the cell, F continued linearly by the gradient of F that the
   /// quadratic reconstruction gives; needs deformation_gradient = "quadratic"); see docs/solid.md.
   std::string quadrature = "nodal";
 };

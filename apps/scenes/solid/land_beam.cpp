@@ -44,9 +44,7 @@ class LandBeamScene final : public Scene {
     p.add("damping_ratio", p_.damping_ratio, "-",
           "velocity damping as a fraction of critical for the first bending mode", sph::Range::positive());
     declare_quasi_static(p, p_.solver, p_.relaxation);
-    p.add_choice("clamp", p_.clamp, {"reflection", "fixed"},
-                 "hold of the face x = 0: reflection (the held particles next to the face take the odd reflection "
-                 "of the displacement of their mirror images) or fixed (held particles at rest)");
+    declare_clamp(p, p_.clamp);
     declare_solid_numerics(p, p_.numerics, "ms");
   }
 
@@ -79,9 +77,7 @@ class LandBeamScene final : public Scene {
     settings.sheet = Vec3::UnitY();
     settings.numerics = p_.numerics.solid;
     sph::ElasticSolid<3> solid(body, relation, settings);
-    const auto holder = select_particles<3>(body, [](const Vec3& X) { return X[0] < 0; });
-    if (p_.clamp == "reflection") solid.clamp_by_reflection(holder, Vec3::Zero(), Vec3::UnitX());
-    else solid.clamp(holder);
+    hold_face_x0<3>(solid, p_.clamp);
 
     // The bottom row carries the face z = 0: each particle its dp x dp cell face, normal -z.
     const auto bottom = select_particles<3>(body, [&](const Vec3& X) { return X[0] > 0 && X[2] < dp; });

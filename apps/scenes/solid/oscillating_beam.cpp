@@ -25,9 +25,7 @@ class OscillatingBeamScene final : public Scene {
     p.add("poisson_ratio", p_.poisson_ratio, "-", "Poisson's ratio", {-1, 0.5, true, true});
     p.add("velocity_factor", p_.velocity_factor, "-", "vf: initial tip speed over c0 = sqrt(K / rho)", sph::Range::any());
     p.add_choice("material", p_.material, {"neo_hookean", "saint_venant_kirchhoff"}, "constitutive law");
-    p.add_choice("clamp", p_.clamp, {"reflection", "fixed"},
-                 "hold of the face x = 0: reflection (the held particles next to the face take the odd reflection "
-                 "of the displacement of their mirror images) or fixed (held particles at rest)");
+    declare_clamp(p, p_.clamp);
     declare_solid_numerics(p, p_.numerics, "s");
   }
 
@@ -60,9 +58,7 @@ class OscillatingBeamScene final : public Scene {
     settings.density = static_cast<Real>(p_.density);
     settings.numerics = p_.numerics.solid;
     sph::ElasticSolid<2> solid(body, relation, settings);
-    const auto holder = select_particles<2>(body, [](const Vec2& X) { return X[0] < 0; });
-    if (p_.clamp == "reflection") solid.clamp_by_reflection(holder, Vec2::Zero(), Vec2::UnitX());
-    else solid.clamp(holder);
+    hold_face_x0<2>(solid, p_.clamp);
 
     // Initial velocity of the first bending mode (Gray et al. 2001, eq. 37), x scaled by L.
     const double k = 1.875;

@@ -19,6 +19,19 @@ void declare_quasi_static(sph::Parameters& p, std::string& solver, sph::Relaxati
   sph::declare_parameters(p, settings);
 }
 
+void declare_clamp(sph::Parameters& p, std::string& clamp) {
+  p.add_choice("clamp", clamp, {"reflection", "fixed"},
+               "hold of the face x = 0: reflection (the held particles next to the face take the odd reflection "
+               "of the displacement of their mirror images) or fixed (held particles at rest)");
+}
+
+template <int Dim>
+void hold_face_x0(sph::ElasticSolid<Dim>& solid, const std::string& clamp) {
+  const auto held = select_particles<Dim>(solid.particles(), [](const sph::Vec<Dim>& X) { return X[0] < 0; });
+  if (clamp == "reflection") solid.clamp_by_reflection(held, sph::Vec<Dim>::Zero(), sph::Vec<Dim>::UnitX());
+  else solid.clamp(held);
+}
+
 void check_whole_spacings(double extent, double spacing, const std::string& name) {
   const double cells = extent / spacing;
   if (std::abs(cells - std::round(cells)) > 1e-6 * cells || std::round(cells) < 1)
@@ -115,5 +128,8 @@ template std::vector<sph::Vec<2>> material_point_positions<2>(const sph::PointPr
 template std::vector<sph::Vec<3>> material_point_positions<3>(const sph::PointProbes<3>&, sph::ElasticSolid<3>&);
 template std::vector<sph::Index> select_particles<2>(const sph::ParticleSet<2>&, const std::function<bool(const sph::Vec<2>&)>&);
 template std::vector<sph::Index> select_particles<3>(const sph::ParticleSet<3>&, const std::function<bool(const sph::Vec<3>&)>&);
+
+template void hold_face_x0<2>(sph::ElasticSolid<2>&, const std::string&);
+template void hold_face_x0<3>(sph::ElasticSolid<3>&, const std::string&);
 
 }  // namespace cardiosph

@@ -64,6 +64,13 @@ SolidRunSummary run_solid(sph::ElasticSolid<Dim>& solid, const sph::NeighbourLis
 /// Declares the quasi-static settings and `solver` (quasi_static or dynamic) of a quasi-static scene.
 void declare_quasi_static(sph::Parameters& p, std::string& solver, sph::RelaxationSettings& settings);
 
+/// Declares `clamp`: how the held particles behind a clamped face hold it (reflection or fixed).
+void declare_clamp(sph::Parameters& p, std::string& clamp);
+/// Holds the particles with X_0 < 0 against the face x = 0: by odd reflection (clamp = "reflection",
+/// ElasticSolid::clamp_by_reflection) or at rest ("fixed").
+template <int Dim>
+void hold_face_x0(sph::ElasticSolid<Dim>& solid, const std::string& clamp);
+
 /// Where the material points of `probes` (built on the solid's reference positions) are now: F is
 /// brought to the current positions, then each point is sampled with it (exact on quadratic motion,
 /// libsph/core/point_probes.hpp).
