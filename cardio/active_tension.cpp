@@ -8,18 +8,61 @@
 namespace cardio {
 
 template <int Dim>
+ActiveTension<Dim>::ActiveTension(const sph::ParticleSet<Dim>& particles, sph::FieldHandle<Real> driver,
+                                  ActiveTensionSettings settings)
+    : particles_(particles), driver_(driver), settings_(settings), land_((settings.check(), settings.land)) {
+  if (!driver_.valid())
+    throw std::invalid_argument(settings_.model == TensionModel::land_2017
+                                    ? "active tension (Land 2017): the cell model has no calcium (use ten Tusscher-Panfilov)"
+                                    : "active tension: no potential field");
+  const auto y = particles_.field(driver_);
+  const std::size_t n = y.size();
+  synced_driver_.assign(y.begin(), y.end());
+  start_.assign(n, 0);
+  end_.assign(n, 0);
+  if (settings_.model == TensionModel::land_2017) {
+    // Every cell starts from the steady state of its own resting calcium at lambda = 1 (cells at
+    // the same calcium share it).
+    states_.resize(n);
+    double last_calcium = -1;
+    Land2017::State rest{};
+    for (std::size_t i = 0; i < n; ++i) {
+      const double calcium = settings_.calcium_scale * double(y[i]);
+      if (calcium != last_calcium) rest = land_.steady_state(calcium), last_calcium = calcium;
+      states_[i] = rest;
+      end_[i] = static_cast<Real>(land_.tension(rest, 1));
+    }
+    stretch_.assign(n, 1);
+    previous_stretch_.assign(n, 1);
+  }
+}
+
+template <int Dim>
 void ActiveTension<Dim>::advance(Real time, Real dt) {
-  const auto V = particles_.field(potential_);
-  const ActiveTensionSettings s = settings_;
+  const auto y = particles_.field(driver_);
+  const ActiveTensionSettings& s = settings_;
   std::swap(start_, end_);
-  sph::parallel_for(V.size(), [&](std::size_t i) {
-    const double mean = 0.5 * (double(synced_potential_[i]) + double(V[i]));
-    const double target = s.k_a * (mean - s.rest_potential);
-    double T = target + (double(start_[i]) - target) * std::exp(-s.rate(mean) * double(dt));
-    if (!s.allow_negative) T = std::max(T, 0.0);
-    end_[i] = static_cast<Real>(T);
-    synced_potential_[i] = V[i];
-  });
+  if (s.model == TensionModel::land_2017) {
+    sph::parallel_for(y.size(), [&](std::size_t i) {
+      const double calcium = s.calcium_scale * 0.5 * (double(synced_driver_[i]) + double(y[i]));
+      const double lambda = stretch_[i], rate = (double(stretch_[i]) - double(previous_stretch_[i])) / double(dt);
+      land_.step(states_[i], calcium, lambda, rate, double(dt));
+      double T = land_.tension(states_[i], lambda);
+      if (!s.allow_negative) T = std::max(T, 0.0);
+      end_[i] = static_cast<Real>(T);
+      synced_driver_[i] = y[i];
+      previous_stretch_[i] = stretch_[i];
+    });
+  } else {
+    sph::parallel_for(y.size(), [&](std::size_t i) {
+      const double mean = 0.5 * (double(synced_driver_[i]) + double(y[i]));
+      const double target = s.k_a * (mean - s.rest_potential);
+      double T = target + (double(start_[i]) - target) * std::exp(-s.rate(mean) * double(dt));
+      if (!s.allow_negative) T = std::max(T, 0.0);
+      end_[i] = static_cast<Real>(T);
+      synced_driver_[i] = y[i];
+    });
+  }
   step_start_ = time;
   step_size_ = dt;
 }

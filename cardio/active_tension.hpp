@@ -1,5 +1,13 @@
 #pragma once
-// Active tension of the myocardium driven by the transmembrane potential (Nash & Panfilov 2004,
+// Active tension of the myocardium, one of two models (ActiveTensionSettings::model):
+// - land_2017: calcium- and stretch-driven crossbridge model of Land et al. 2017 (cardio/land_2017.hpp),
+//   driven by the free cytosolic calcium of the cell model (ten Tusscher-Panfilov 2006) and by the
+//   fibre stretch lambda = |F f0| of the solid. Over a step [t, t + dt] the calcium is taken at its
+//   mean over the step (the value before and after the electrophysiology step), lambda at its value
+//   set before the step (set_fibre_stretch; the solid's F of the last mechanics sub-step) and
+//   dlambda/dt as the change of lambda since the previous step over dt; T_a is the model's tension
+//   at the end of the step. T_a may not fall below zero unless allow_negative.
+// - nash_panfilov: phenomenological tension driven by the transmembrane potential (Nash & Panfilov 2004,
 // Prog. Biophys. Mol. Biol. 85:501, eq. 4), with the smooth activation function of Wong et al. 2011
 // (CMAME 200:3139):
 //   dT_a/dt = eps(V) (k_a (V - V_r) - T_a),
@@ -24,13 +32,18 @@
 #include <string>
 #include <vector>
 
+#include "cardio/land_2017.hpp"
 #include "libsph/core/particles.hpp"
 
 namespace cardio {
 
 using sph::Real;
 
+enum class TensionModel { nash_panfilov, land_2017 };
+
 struct ActiveTensionSettings {
+  TensionModel model = TensionModel::nash_panfilov;
+  // Nash-Panfilov.
   double k_a = 0.001;             ///< [kPa/mV] tension per mV above rest (0.1 kPa per unit of u)
   double rest_potential = -80;    ///< V_r [mV]
   double eps_rest = 0.1 / 12.9;   ///< eps_0 [1/ms]
@@ -38,6 +51,9 @@ struct ActiveTensionSettings {
   double steepness = 1;           ///< xi [1/mV]
   double threshold = -80 + 100 * 0.01;  ///< V_th [mV] (u = a = 0.01 of the Nash-Panfilov model)
   bool allow_negative = false;    ///< let T_a fall below zero
+  // Land 2017.
+  Land2017::Parameters land;
+  double calcium_scale = 1000;    ///< uM per unit of the calcium field (1000: the cell model's mM)
 
   /// eps(V) [1/ms].
   double rate(double V) const { return eps_rest + (eps_active - eps_rest) * std::exp(-std::exp(-steepness * (V - threshold))); }
@@ -51,25 +67,26 @@ struct ActiveTensionSettings {
             "the rates eps_0 and eps_inf must be positive");
     require(steepness > 0 && std::isfinite(steepness), "the steepness xi must be positive");
     require(std::isfinite(rest_potential) && std::isfinite(threshold), "V_r and V_th must be finite");
+    require(calcium_scale > 0 && std::isfinite(calcium_scale), "the calcium scale must be positive");
+    if (model == TensionModel::land_2017) land.check();
   }
 };
 
 template <int Dim>
 class ActiveTension {
  public:
-  /// Reads the potential field of `particles`; T_a starts at zero.
-  ActiveTension(const sph::ParticleSet<Dim>& particles, sph::FieldHandle<Real> potential, ActiveTensionSettings settings)
-      : particles_(particles), potential_(potential), settings_(settings) {
-    settings_.check();
-    const auto V = particles_.field(potential_);
-    synced_potential_.assign(V.begin(), V.end());
-    start_.assign(V.size(), 0);
-    end_.assign(V.size(), 0);
-  }
+  /// Reads the driving field of `particles`: the potential (nash_panfilov) or the free calcium
+  /// (land_2017). T_a starts at zero (nash_panfilov) or at the resting tension of the calcium at
+  /// construction with lambda = 1 (land_2017).
+  ActiveTension(const sph::ParticleSet<Dim>& particles, sph::FieldHandle<Real> driver, ActiveTensionSettings settings);
 
-  /// Advances T_a over [time, time + dt] with the mean of the potential at the previous call (or
-  /// construction) and now.
+  /// Advances T_a over [time, time + dt] with the mean of the driving field at the previous call
+  /// (or construction) and now.
   void advance(Real time, Real dt);
+  /// The fibre stretch lambda per particle for the next step (land_2017), to be written by the
+  /// caller or the interaction with the solid (cardio/electromechanics.hpp).
+  std::span<Real> fibre_stretch() { return stretch_; }
+  bool needs_fibre_stretch() const { return settings_.model == TensionModel::land_2017; }
 
   /// T_a at time + fraction * dt of the last step (fraction in [0, 1]) into `tension`.
   void interpolate(Real fraction, std::span<Real> tension) const;
@@ -81,9 +98,13 @@ class ActiveTension {
 
  private:
   const sph::ParticleSet<Dim>& particles_;
-  sph::FieldHandle<Real> potential_;
+  sph::FieldHandle<Real> driver_;
   ActiveTensionSettings settings_;
-  std::vector<Real> synced_potential_, start_, end_;
+  std::vector<Real> synced_driver_, start_, end_;
+  // Land 2017: the crossbridge states and the stretch now and at the previous step.
+  Land2017 land_;
+  std::vector<Land2017::State> states_;
+  std::vector<Real> stretch_, previous_stretch_;
   Real step_start_ = 0, step_size_ = 0;
 };
 

@@ -15,6 +15,15 @@ void interact(ActiveTension<Dim>& on, const Monodomain<Dim>&, sph::SameParticles
 }
 
 template <int Dim>
+void interact(ActiveTension<Dim>& on, const sph::ElasticSolid<Dim>& by, sph::SameParticles, Real, Real) {
+  const auto& body = by.particles();
+  const auto F = body.field(by.deformation_gradient_field());
+  const auto f0 = body.field(by.fiber_field());
+  const auto stretch = on.fibre_stretch();
+  sph::parallel_for(stretch.size(), [&](std::size_t i) { stretch[i] = (F[i] * f0[i]).norm(); });
+}
+
+template <int Dim>
 void interact(sph::ElasticSolid<Dim>& on, const ActiveTension<Dim>& by, sph::SameParticles, Real time, Real dt) {
   const Real fraction = (time + dt / 2 - by.step_start()) / by.step_size();
   by.interpolate(fraction, on.particles().field(on.active_tension_field()));
@@ -62,8 +71,10 @@ void add_electromechanics(sph::TimeStepper& stepper, Monodomain<Dim>& monodomain
   // coupling step a rounding error longer than K EP steps.
   sph::Stage electrophysiology = monodomain.stage("electrophysiology");
   electrophysiology.stable_time_step = [ep_step] { return ep_step * (1 + Real(1e-9)); };
-  step.sub_cycle(std::move(electrophysiology))
-      .then("active tension", timers.timed("active_tension", sph::coupling(tension, monodomain, sph::same_particles)))
+  step.sub_cycle(std::move(electrophysiology));
+  if (tension.needs_fibre_stretch())
+    step.then("fibre stretch", timers.timed("active_tension", sph::coupling(tension, solid, sph::same_particles)));
+  step.then("active tension", timers.timed("active_tension", sph::coupling(tension, monodomain, sph::same_particles)))
       .sub_cycle(std::move(mechanics));
   stepper.add_stage(std::move(step));
 
@@ -79,6 +90,8 @@ void add_electromechanics(sph::TimeStepper& stepper, Monodomain<Dim>& monodomain
 
 template void interact<2>(ActiveTension<2>&, const Monodomain<2>&, sph::SameParticles, Real, Real);
 template void interact<3>(ActiveTension<3>&, const Monodomain<3>&, sph::SameParticles, Real, Real);
+template void interact<2>(ActiveTension<2>&, const sph::ElasticSolid<2>&, sph::SameParticles, Real, Real);
+template void interact<3>(ActiveTension<3>&, const sph::ElasticSolid<3>&, sph::SameParticles, Real, Real);
 template void interact<2>(sph::ElasticSolid<2>&, const ActiveTension<2>&, sph::SameParticles, Real, Real);
 template void interact<3>(sph::ElasticSolid<3>&, const ActiveTension<3>&, sph::SameParticles, Real, Real);
 template void interact<2>(Monodomain<2>&, const sph::ElasticSolid<2>&, sph::SameParticles, Real, Real);

@@ -12,8 +12,9 @@
 // one; shorter to land on output and event times):
 //   1. electrophysiology: K splitting steps, each reaction, diffusion over the step (nested stage at
 //      its own stability limit), reaction (cardio/monodomain.hpp);
-//   2. active tension over [t, t + dt] from the potential before and after step 1
-//      (cardio/active_tension.hpp);
+//   2. active tension over [t, t + dt] from the potential (or calcium) before and after step 1
+//      (cardio/active_tension.hpp) and, for the Land model, the fibre stretch of the solid's F of
+//      the last mechanics sub-step;
 //   3. mechanics over [t, t + dt], a nested stage at the acoustic step of the solid (re-evaluated
 //      before every sub-step: one sub-step when K > 1, several when the solid's step is the shorter);
 //      the sub-step from s to s + ds sees T_a interpolated linearly at its midpoint s + ds/2, where
@@ -61,6 +62,11 @@ sph::Mat<Dim> pulled_back_conduction(const sph::Mat<Dim>& F, const sph::Vec<Dim>
 /// tension was built on).
 template <int Dim>
 void interact(ActiveTension<Dim>& on, const Monodomain<Dim>& by, sph::SameParticles, Real time, Real dt);
+
+/// The fibre stretch lambda = |F f0| of the solid for the tension's next step (Land 2017), from the
+/// deformation gradient of the last mechanics sub-step.
+template <int Dim>
+void interact(ActiveTension<Dim>& on, const sph::ElasticSolid<Dim>& by, sph::SameParticles, Real time, Real dt);
 
 /// The active stress of the solid over the sub-step [time, time + dt]: T_a of the last tension step
 /// interpolated at the sub-step's midpoint into the solid's active tension field.

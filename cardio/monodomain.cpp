@@ -42,6 +42,13 @@ typename Monodomain<Dim>::Reaction Monodomain<Dim>::make_reaction(sph::ParticleS
 }
 
 template <int Dim>
+sph::FieldHandle<Real> Monodomain<Dim>::calcium_field() const {
+  if (const auto* ttp = std::get_if<sph::ReactionSystem<Dim, sph::TenTusscherPanfilov2006>>(&reaction_))
+    return ttp->state_field(sph::TenTusscherPanfilov2006::StateIndex::Ca_i);
+  return {};
+}
+
+template <int Dim>
 Monodomain<Dim>::Monodomain(sph::ParticleSet<Dim>& particles, const sph::InnerRelation<Dim>& relation, Settings settings)
     : particles_(particles),
       settings_(std::move(settings)),

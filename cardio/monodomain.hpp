@@ -96,6 +96,9 @@ class Monodomain {
 
   sph::FieldHandle<Real> potential_field() const { return potential_; }
   sph::FieldHandle<Real> activation_field() const { return activation_; }
+  /// The free cytosolic calcium Ca_i [mM] of a cell model that has one (ten Tusscher-Panfilov 2006);
+  /// an invalid handle otherwise.
+  sph::FieldHandle<Real> calcium_field() const;
   /// True when every particle has been activated.
   bool all_activated() const;
   /// Latest activation time over the particles [ms], or -1 if some particle is not activated.
