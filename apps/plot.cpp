@@ -8,7 +8,7 @@
 
 namespace cardiosph {
 
-bool plot_log_log(const std::filesystem::path& folder, const LogLogPlot& plot) {
+bool plot_csv(const std::filesystem::path& folder, const CsvPlot& plot) {
   namespace fs = std::filesystem;
   const std::string partial = plot.png + ".partial", script_name = plot.png + ".gp";
   bool long_titles = false;  // long legends go below the plot, where they do not squeeze it
@@ -17,7 +17,7 @@ bool plot_log_log(const std::filesystem::path& folder, const LogLogPlot& plot) {
   script << "set terminal pngcairo size 900,650 enhanced font 'sans,11'\n"
          << "set output '" << partial << "'\n"
          << "set datafile separator ','\n"
-         << "set logscale xy\n"
+         << (plot.logarithmic ? "set logscale xy\n" : "")
          << "set grid\n"
          << (long_titles ? "set key below\n" : "set key outside right top\n")
          << "set title '" << plot.title << "' noenhanced\n"
@@ -25,7 +25,7 @@ bool plot_log_log(const std::filesystem::path& folder, const LogLogPlot& plot) {
          << "plot ";
   for (std::size_t s = 0; s < plot.series.size(); ++s)
     script << (s ? ", " : "") << "'" << (plot.series[s].csv.empty() ? plot.csv : plot.series[s].csv) << "' using " << plot.series[s].x_column << ":" << plot.series[s].y_column
-           << " skip 1 with linespoints lw 2 pt 7 title '" << plot.series[s].title << "' noenhanced";
+           << " skip 1 with " << plot.style << (plot.style == "linespoints" ? " lw 2 pt 7" : " lw 2") << " title '" << plot.series[s].title << "' noenhanced";
   script << "\n";
   sph::write_file_atomically(folder / script_name, script.str());
   const std::string command = "cd '" + folder.string() + "' && gnuplot '" + script_name + "' 2> gnuplot.log";

@@ -1,5 +1,5 @@
 #pragma once
-// Log-log plots of CSV columns as PNG, drawn by gnuplot when it is installed. A missing gnuplot
+// Plots of CSV columns as PNG (log-log by default), drawn by gnuplot when it is installed. A missing gnuplot
 // costs the picture only: the CSV is the result, and a note says where the plot would have been.
 
 #include <filesystem>
@@ -15,15 +15,17 @@ struct PlotSeries {
   std::string csv;  ///< data file relative to the folder; empty: the plot's csv
 };
 
-struct LogLogPlot {
+struct CsvPlot {
   std::string csv;    ///< file name inside the folder (the series' default)
   std::string png;    ///< file name inside the folder
   std::string title, x_label, y_label;
   std::vector<PlotSeries> series;
+  bool logarithmic = true;             ///< log-log axes (false: linear)
+  std::string style = "linespoints";   ///< gnuplot style of every series
 };
 
 /// Draws the plot into folder/png (written atomically); returns false, with a note on stderr, if
 /// gnuplot failed or is missing.
-bool plot_log_log(const std::filesystem::path& folder, const LogLogPlot& plot);
+bool plot_csv(const std::filesystem::path& folder, const CsvPlot& plot);
 
 }  // namespace cardiosph

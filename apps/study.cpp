@@ -42,10 +42,10 @@ bool parse_number(const std::string& s, double& v) {
 
 void plot(const fs::path& folder, const std::vector<std::string>& error_names, const std::string& scene,
           const std::string& key) {
-  LogLogPlot plot{"study.csv", "study.png", scene + ": error against wall time (sweep of " + key + ")", "wall time [s]",
+  CsvPlot plot{"study.csv", "study.png", scene + ": error against wall time (sweep of " + key + ")", "wall time [s]",
                   "error", {}};
   for (std::size_t e = 0; e < error_names.size(); ++e) plot.series.push_back({5, 6 + static_cast<int>(e), error_names[e], ""});
-  plot_log_log(folder, plot);
+  plot_csv(folder, plot);
 }
 
 struct SweepResult {
@@ -143,7 +143,7 @@ int run_study(const std::string& scene_name, const std::string& sweep_text, cons
   if (compare.key.empty()) return run_sweep(scene_name, sweep, options, folder, {}).exit_code;
 
   // One sweep a compared value, in its own subfolder; one picture of them all.
-  LogLogPlot plot{"", "study.png", scene_name + ": error against wall time (sweep of " + sweep.key + ", by " + compare.key + ")",
+  CsvPlot plot{"", "study.png", scene_name + ": error against wall time (sweep of " + sweep.key + ", by " + compare.key + ")",
                   "wall time [s]", "error", {}};
   for (const auto& c : compare.values) {
     const std::string sub = compare.key + "-" + c;
@@ -152,7 +152,7 @@ int run_study(const std::string& scene_name, const std::string& sweep_text, cons
     for (std::size_t e = 0; e < result.error_names.size(); ++e)
       plot.series.push_back({5, 6 + static_cast<int>(e), result.error_names[e] + " (" + compare.key + " = " + c + ")", sub + "/study.csv"});
   }
-  plot_log_log(folder, plot);
+  plot_csv(folder, plot);
   std::cout << "study " << scene_name << ": comparison in " << (folder / "study.png").string() << '\n';
   return exit_ok;
 }

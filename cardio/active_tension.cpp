@@ -45,7 +45,8 @@ void ActiveTension<Dim>::advance(Real time, Real dt) {
   if (s.model == TensionModel::land_2017) {
     sph::parallel_for(y.size(), [&](std::size_t i) {
       const double calcium = s.calcium_scale * 0.5 * (double(synced_driver_[i]) + double(y[i]));
-      const double lambda = stretch_[i], rate = (double(stretch_[i]) - double(previous_stretch_[i])) / double(dt);
+      const double lambda = stretch_[i];
+      const double rate = s.velocity_dependence ? (double(stretch_[i]) - double(previous_stretch_[i])) / double(dt) : 0.0;
       land_.step(states_[i], calcium, lambda, rate, double(dt));
       double T = land_.tension(states_[i], lambda);
       if (!s.allow_negative) T = std::max(T, 0.0);

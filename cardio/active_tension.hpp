@@ -54,6 +54,7 @@ struct ActiveTensionSettings {
   // Land 2017.
   Land2017::Parameters land;
   double calcium_scale = 1000;    ///< uM per unit of the calcium field (1000: the cell model's mM)
+  bool velocity_dependence = true;  ///< pass dlambda/dt to the model (false: 0, the length dependence only)
 
   /// eps(V) [1/ms].
   double rate(double V) const { return eps_rest + (eps_active - eps_rest) * std::exp(-std::exp(-steepness * (V - threshold))); }

@@ -54,8 +54,21 @@ void CavitySurface::move_vertices(std::span<const sph::Vec<3>> x, std::span<cons
 void CavitySurface::add_pressure_forces(Real pressure, std::span<const sph::Vec<3>> x, std::span<const sph::Mat<3>> F,
                                         std::span<const sph::Vec<3>> X, std::span<sph::Vec<3>> force) const {
   if (pressure == 0) return;
-  auto& moved = moved_scratch_;
-  move_vertices(x, F, X, moved);
+  move_vertices(x, F, X, moved_scratch_);
+  spread_pressure(pressure, force);
+}
+
+double CavitySurface::add_pressure_forces(const std::function<Real(double volume)>& pressure_of_volume,
+                                          std::span<const sph::Vec<3>> x, std::span<const sph::Mat<3>> F,
+                                          std::span<const sph::Vec<3>> X, std::span<sph::Vec<3>> force) const {
+  move_vertices(x, F, X, moved_scratch_);
+  const double V = closed_cavity_volume(moved_scratch_, faces, border);
+  spread_pressure(pressure_of_volume(V), force);
+  return V;
+}
+
+void CavitySurface::spread_pressure(Real pressure, std::span<sph::Vec<3>> force) const {
+  const auto& moved = moved_scratch_;
   auto& vertex_force = vertex_force_scratch_;
   vertex_force.assign(moved.size(), sph::Vec<3>::Zero());
   for (const auto& f : faces) {
@@ -76,7 +89,8 @@ double CavitySurface::volume(std::span<const sph::Vec<3>> x, std::span<const sph
 std::vector<CavitySurface> cavity_surfaces(const geometry::TriangleMesh& mesh, std::span<const SurfaceLabel> face_labels,
                                            std::span<const sph::Vec<3>> positions,
                                            std::span<const Real> volumes, std::span<const std::int8_t> labels,
-                                           Real spacing, const sph::AnyKernel<3>& kernel, Real smoothing_length) {
+                                           Real spacing, const sph::AnyKernel<3>& kernel, Real smoothing_length,
+                                           std::span<const SurfaceLabel> wanted) {
   const std::size_t n = positions.size();
   if (labels.size() != n || volumes.size() != n) throw std::invalid_argument("cavity surfaces: one label and volume per particle");
   if (!face_labels.empty() && face_labels.size() != mesh.n_faces())
@@ -118,7 +132,7 @@ std::vector<CavitySurface> cavity_surfaces(const geometry::TriangleMesh& mesh, s
   const Real support = std::visit([](const auto& k) { return k.support_radius(Real(1)); }, kernel) * smoothing_length;
   const sph::CellLinkedList<3> all_cells(positions, support);
   std::vector<CavitySurface> surfaces;
-  for (const SurfaceLabel label : {label_lv_endo, label_rv_endo}) {
+  for (const SurfaceLabel label : wanted) {
     CavitySurface s;
     s.label = label;
     std::map<std::uint32_t, std::uint32_t> vertex_of;  // mesh vertex -> surface vertex

@@ -23,6 +23,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -58,20 +59,27 @@ struct CavitySurface {
   /// Adds the forces of cavity pressure p on the particles to `force` (see above).
   void add_pressure_forces(Real pressure, std::span<const sph::Vec<3>> x, std::span<const sph::Mat<3>> F,
                            std::span<const sph::Vec<3>> X, std::span<sph::Vec<3>> force) const;
+  /// The same for a pressure that depends on the cavity volume V (a 0D model coupled through a stiff
+  /// volume penalty): V is taken from the same moved surface, p(V) applied; returns V [mm^3].
+  double add_pressure_forces(const std::function<Real(double volume)>& pressure_of_volume, std::span<const sph::Vec<3>> x,
+                             std::span<const sph::Mat<3>> F, std::span<const sph::Vec<3>> X, std::span<sph::Vec<3>> force) const;
   /// Cavity volume at the current configuration.
   double volume(std::span<const sph::Vec<3>> x, std::span<const sph::Mat<3>> F, std::span<const sph::Vec<3>> X) const;
 
  private:
+  void spread_pressure(Real pressure, std::span<sph::Vec<3>> force) const;  // on moved_scratch_
   // Scratch of add_pressure_forces, kept so that the load allocates nothing once warm (the calls
   // on one surface are sequential: one mechanics sub-step after another).
   mutable std::vector<sph::Vec<3>> moved_scratch_, vertex_force_scratch_;
 };
 
+inline constexpr SurfaceLabel cavity_labels[] = {label_lv_endo, label_rv_endo};
+
 /// Volume of the cavity bounded by `faces` of `vertices`, closed by a fan at its border (see above).
 double closed_cavity_volume(std::span<const sph::Vec<3>> vertices, std::span<const std::array<std::uint32_t, 3>> faces,
                             std::span<const std::uint32_t> border);
 
-/// The LV and RV cavity surfaces of the mesh (LV first). `face_labels` holds one label per face, or
+/// The surfaces of the mesh with the given labels (default: the LV and RV cavities, LV first). `face_labels` holds one label per face, or
 /// is empty to label each face by its nearest labelled particle. `positions` and `volumes` are the
 /// particles in the reference configuration, `labels` their surface labels, `spacing` the particle
 /// spacing; the vertex stencils use `kernel` with smoothing length h. Each face's area goes to the
@@ -80,6 +88,7 @@ double closed_cavity_volume(std::span<const sph::Vec<3>> vertices, std::span<con
 std::vector<CavitySurface> cavity_surfaces(const geometry::TriangleMesh& mesh, std::span<const SurfaceLabel> face_labels,
                                            std::span<const sph::Vec<3>> positions,
                                            std::span<const Real> volumes, std::span<const std::int8_t> labels,
-                                           Real spacing, const sph::AnyKernel<3>& kernel, Real smoothing_length);
+                                           Real spacing, const sph::AnyKernel<3>& kernel, Real smoothing_length,
+                                           std::span<const SurfaceLabel> wanted = cavity_labels);
 
 }  // namespace cardio

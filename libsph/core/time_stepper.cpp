@@ -86,6 +86,8 @@ void TimeStepper::set_coupling_interval(Real interval) { coupling_interval_ = in
 void TimeStepper::add_event(std::string name, EventTimes times, std::function<void(const StepInfo&)> action) {
   if (!(times.interval > 0) || !std::isfinite(times.interval))
     throw std::invalid_argument("time stepper: the interval of '" + name + "' must be positive");
+  if (!(times.offset >= 0) || !std::isfinite(times.offset))
+    throw std::invalid_argument("time stepper: the offset of '" + name + "' must be >= 0");
   const std::size_t first = times.at_start ? 0 : 1;
   periodic_.push_back({std::move(name), times, first, -std::numeric_limits<Real>::infinity(), std::move(action)});
 }
@@ -99,7 +101,7 @@ void TimeStepper::add_step_callback(std::function<void(const StepInfo&)> callbac
 }
 
 Real TimeStepper::event_time(const Periodic& p, std::size_t k) const {
-  return start_time_ + static_cast<Real>(k) * p.times.interval;
+  return start_time_ + p.times.offset + static_cast<Real>(k) * p.times.interval;
 }
 
 Real TimeStepper::next_event_time() const {

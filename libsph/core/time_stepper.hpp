@@ -23,7 +23,7 @@
 // so its step follows the state (not fixed once per parent step), the sub-steps left are always
 // equal, and the last ends exactly at t + dt. A stage without a stable step takes its parent's step.
 //
-// Events and callbacks. Times are start + k * interval, never an accumulated sum. An event with
+// Events and callbacks. Times are start + offset + k * interval, never an accumulated sum. An event with
 // hit_exactly shortens the steps to land on its times; without, it runs at the first step at or
 // after each of them (sampling). Periodic work of the physics (the conduction update, neighbour
 // rebuilds, re-sorting) is an event, output and observers are callbacks: both run between macro
@@ -84,6 +84,7 @@ struct EventTimes {
   bool hit_exactly = true;   ///< shorten steps to land on the times (else: first step at or after)
   bool at_start = true;      ///< also at the start time, before any step
   bool at_end = true;        ///< also once at the end time (or where the run stopped)
+  Real offset = 0;           ///< the times are start + offset + k interval (at_start: the first of them)
 };
 
 class TimeStepper {

@@ -7,7 +7,7 @@
 namespace cardiosph {
 
 std::vector<sph::Index> attach_heart_geometry(sph::ElasticSolid<3>& solid, const cardio::HeartGeometry& geometry,
-                                              const std::string& scene, sph::Real clamp_depth) {
+                                              const std::string& scene, sph::Real clamp_depth, bool clamp) {
   auto& body = solid.particles();
   const std::size_t n = body.n_particles();
   if (geometry.fibres.fibre.size() != n || geometry.fibres.sheet.size() != n)
@@ -30,7 +30,7 @@ std::vector<sph::Index> attach_heart_geometry(sph::ElasticSolid<3>& solid, const
     for (std::size_t i = 0; i < n; ++i)
       if (normal.dot(body.position[i]) >= plane - clamp_depth) base.push_back(static_cast<sph::Index>(i));
   }
-  solid.clamp(base);
+  if (clamp) solid.clamp(base);
   return base;
 }
 

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <iostream>
 #include <limits>
 #include <optional>
@@ -23,8 +24,11 @@
 #include "apps/scenes/electromechanics/em_setup.hpp"
 #include "apps/scenes/geometry/heart_geometry_parameters.hpp"
 #include "apps/scenes/solid/solid_run.hpp"
+#include "apps/plot.hpp"
+#include "cardio/beat_metrics.hpp"
 #include "cardio/cavity.hpp"
 #include "cardio/cavity_pressure.hpp"
+#include "cardio/circulation.hpp"
 #include "cardio/electromechanics.hpp"
 #include "libsph/core/numerical_failure.hpp"
 #include "libsph/core/parallel.hpp"
@@ -40,20 +44,22 @@ using Vec3 = sph::Vec<3>;
 enum class CellModel { aliev_panfilov, aliev_panfilov_dimensionless, ten_tusscher_panfilov };
 enum class StimulusSite { lv_apex, point, box };
 enum class Preset { coarse, standard, fine, sphinxsys };
+enum class BaseCondition { springs, clamp };
 
 struct HeartParameters {
   HeartGeometryParameters geometry;
   Preset preset = Preset::standard;
   // Electrophysiology.
-  CellModel cell_model = CellModel::aliev_panfilov;
+  CellModel cell_model = CellModel::ten_tusscher_panfilov;
   double diffusivity_fibre = 0, diffusivity_cross = 0;  ///< 0: the cell model's default
   double stimulus_strength = 50, stimulus_duration = 2, stimulus_radius = 5;
   StimulusSite stimulus_site = StimulusSite::lv_apex;
   Eigen::Vector3d stimulus_point = Eigen::Vector3d::Zero();
   Eigen::Vector3d stimulus_box_min = Eigen::Vector3d::Zero(), stimulus_box_max = Eigen::Vector3d::Zero();
-  long beats = 1;
+  long beats = 6;              ///< at most; fewer once the stroke volumes agree within beat_tolerance
+  double beat_tolerance = 0.02;  ///< relative change of both stroke volumes between two beats (0: run every beat)
   double cycle_length = 800;
-  double end_time = 0;  ///< 0: beats x cycle length
+  double end_time = 0;  ///< 0: preload + beats x cycle length
   /// The monodomain's numerics: a 0.1 ms splitting step (the coupling step) and clipped negative
   /// diffusion coefficients on the heart's thin, irregular walls (docs/electromechanics.md).
   cardio::MonodomainNumerics monodomain{sph::ReactionScheme::rbr_qss, Real(0.1),
@@ -61,6 +67,9 @@ struct HeartParameters {
                                          Real(0.9), true}};
   cardio::ElectromechanicsSettings coupling;
   // Active tension.
+  cardio::TensionModel tension_model = cardio::TensionModel::land_2017;
+  double land_reference_tension = 120;  ///< T_ref [kPa]
+  bool land_velocity_dependence = true;
   double k_a = 0.01;
   double tension_threshold = 1;  ///< V_th - V_r [mV]
   bool tension_allow_negative = false;
@@ -70,10 +79,20 @@ struct HeartParameters {
   double bulk_modulus = 100;
   double damping_rate = 0.02;
   double clamp_depth = 0;  ///< 0: the particles labelled base; > 0: every particle this close to the base plane
-  cardio::CavityPressureSettings cavity_pressure;
+  BaseCondition base_condition = BaseCondition::springs;
+  double pericardium_stiffness = 0.2;  ///< [kPa/mm] normal springs on the epicardium
+  double base_stiffness = 1;           ///< [kPa/mm] springs on the base, every direction
+  cardio::CavityPressureSettings cavity_pressure{cardio::CavityPressureMode::circulation, 1.2, 0.4, 100};
+  double preload_time = 150;  ///< [ms] before the first beat (circulation): the ramp to the preload, then rest
+  cardio::CirculationSettings circulation;
   double sample_interval = 2;
   SolidSceneNumerics numerics;
 };
+
+/// The time of the first stimulus: after the preload phase when the circulation drives the cavities.
+double beat_origin(const HeartParameters& p) {
+  return p.cavity_pressure.mode == cardio::CavityPressureMode::circulation ? p.preload_time : 0.0;
+}
 
 /// Spacing of each preset on the shipped biventricular heart (the research resolution is "fine").
 double preset_spacing(Preset preset) {
@@ -114,28 +133,34 @@ class HeartModel {
         body(particle_set(g)),
         relation(sph::build_inner_relation<3>(body.position, kernel, h)),
         solid(body, relation, solid_settings(p)),
-        base(attach_heart_geometry(solid, g, "heart", Real(p.clamp_depth))),
+        base(attach_heart_geometry(solid, g, "heart", Real(p.clamp_depth), p.base_condition == BaseCondition::clamp)),
         ttp(p.cell_model == CellModel::ten_tusscher_panfilov),
         dimensionless(p.cell_model == CellModel::aliev_panfilov_dimensionless),
         D_fibre(p.diffusivity_fibre > 0 ? p.diffusivity_fibre : (ttp ? 0.13 : 1.0)),
         D_cross(p.diffusivity_cross > 0 ? p.diffusivity_cross : D_fibre / 4),
         stimulus_centre(stimulus_centre_of(p, g)),
         monodomain(body, relation, monodomain_settings(p)),
-        tension(body, monodomain.potential_field(), tension_settings(p)),
+        tension(body, p.tension_model == cardio::TensionModel::land_2017 ? monodomain.calcium_field() : monodomain.potential_field(),
+                tension_settings(p)),
         X(body.field(solid.reference_position_field())) {
     // Cavities: the labelled endocardia, moved with the tissue, each with its pressure.
     const auto mesh = read_geometry_mesh(gs);
     const std::vector<Real> volumes(body.volume.begin(), body.volume.end());
-    cavities = cardio::cavity_surfaces(mesh, cavity_face_labels(mesh, g), body.position, volumes, g.labels, dp, kernel, h);
+    const auto face_labels = cavity_face_labels(mesh, g);
+    cavities = cardio::cavity_surfaces(mesh, face_labels, body.position, volumes, g.labels, dp, kernel, h);
     for (const auto& c : cavities)
       pressures.emplace_back(p.cavity_pressure, c.label == cardio::label_lv_endo ? p.cavity_pressure.lv_pressure
                                                                                  : p.cavity_pressure.rv_pressure);
     for (std::size_t c = 0; c < cavities.size(); ++c)
       if (pressures[c].active())
         solid.add_force_load([this, c](Real t, std::span<Vec3> force) {
-          cavities[c].add_pressure_forces(Real(pressures[c].at(double(t))), body.position,
-                                          body.field(solid.deformation_gradient_field()), X, force);
+          const auto F = body.field(solid.deformation_gradient_field());
+          if (pressure_of_volume)
+            cavities[c].add_pressure_forces([this, c](double V) { return Real(pressure_of_volume(c, V)); }, body.position, F, X, force);
+          else
+            cavities[c].add_pressure_forces(Real(pressures[c].at(double(t))), body.position, F, X, force);
         });
+    if (p.base_condition == BaseCondition::springs) add_springs(p, mesh, face_labels, volumes, g.labels);
   }
   HeartModel(const HeartModel&) = delete;
 
@@ -172,8 +197,42 @@ class HeartModel {
   std::span<const Vec3> X;
   std::vector<cardio::CavitySurface> cavities;
   std::vector<cardio::CavityPressure> pressures;
+  std::vector<cardio::CavitySurface> spring_surfaces;  ///< epicardium and base (base_condition = springs)
+  /// When set (the circulation, once started): the pressure of cavity c at its current volume,
+  /// evaluated at every mechanics sub-step.
+  std::function<double(std::size_t cavity, double volume)> pressure_of_volume;
 
  private:
+  /// The pericardium and the base as springs on the surface particles, per reference area A_i n_i
+  /// of the mesh faces nearest to each (CavitySurface::area_normals), on the displacement u = x - X:
+  ///   epicardium: f_i = -k_peri (u_i . n_i) n_i |A_i|   (normal Robin condition: the pericardial sac
+  ///               resists motion along the normal and lets the wall slide along it);
+  ///   base:       f_i = -k_base u_i |A_i|               (every direction).
+  /// As in the pericardium model of Pfaller et al. 2019 (Biomech. Model. Mechanobiol. 18:503) and
+  /// Regazzoni et al. 2022 (J. Comput. Phys. 457:111083), without their damping term (the solid's
+  /// velocity damping stands for it).
+  void add_springs(const HeartParameters& p, const geometry::TriangleMesh& mesh, std::span<const cardio::SurfaceLabel> face_labels,
+                   std::span<const Real> volumes, std::span<const std::int8_t> particle_labels) {
+    static constexpr cardio::SurfaceLabel wanted[] = {cardio::label_epi, cardio::label_base};
+    spring_surfaces = cardio::cavity_surfaces(mesh, face_labels, body.position, volumes, particle_labels, dp, kernel, h, wanted);
+    bool has_base = false;
+    for (const auto& surface : spring_surfaces) {
+      const bool normal_only = surface.label == cardio::label_epi;
+      has_base = has_base || surface.label == cardio::label_base;
+      const Real k = Real(normal_only ? p.pericardium_stiffness : p.base_stiffness);
+      if (k == 0) continue;
+      solid.add_force_load([this, &surface, normal_only, k](Real, std::span<Vec3> force) {
+        for (std::size_t m = 0; m < surface.loaded_particles.size(); ++m) {
+          const auto i = surface.loaded_particles[m];
+          const Vec3 u = body.position[i] - X[i], A = surface.area_normals[m];
+          force[i] -= normal_only ? Vec3(k * u.dot(A) / A.norm() * A) : Vec3(k * A.norm() * u);
+        }
+      });
+    }
+    if (!has_base)
+      throw std::invalid_argument("heart: no mesh face is labelled base, so base_condition = springs has no base to hold "
+                                  "(use base_condition = clamp)");
+  }
   static sph::ParticleSet<3> particle_set(const cardio::HeartGeometry& g) {
     auto body = make_particle_set(g, "heart");
     auto label = body.field(body.register_field<int>("label"));
@@ -228,7 +287,7 @@ class HeartModel {
         break;
     }
     stimulated = stimulus.particles.size();
-    stimulus.protocol = {0, p.stimulus_duration, p.stimulus_strength, p.cycle_length, int(p.beats)};
+    stimulus.protocol = {beat_origin(p), p.stimulus_duration, p.stimulus_strength, p.cycle_length, int(p.beats)};
     ep.stimuli.push_back(stimulus);
     // Activation: the upstroke through -40 mV (ten Tusscher-Panfilov), -30 mV (u = 0.5), or u = 0.5.
     ep.activation_threshold = ttp ? Real(-40) : dimensionless ? Real(0.5) : Real(-30);
@@ -253,6 +312,9 @@ class HeartModel {
   cardio::ActiveTensionSettings tension_settings(const HeartParameters& p) const {
     const Real rest = body.field(monodomain.potential_field())[0];
     cardio::ActiveTensionSettings ts = p.tension_rates;
+    ts.model = p.tension_model;
+    ts.land.T_ref = p.land_reference_tension;
+    ts.velocity_dependence = p.land_velocity_dependence;
     ts.k_a = p.k_a;
     ts.rest_potential = rest;
     ts.threshold = rest + p.tension_threshold;
@@ -281,7 +343,8 @@ class HeartRecorder {
     for (const auto& name : observer_names_)
       for (const char* q : {"_V", "_T_a", "_displacement"}) observer_columns.push_back(name + q);
     run.add_time_series("observers.csv", observer_columns, Real(p.sample_interval), [this](const sph::StepInfo&) { return observer_row(); });
-    stepper.add_event("end of beat", {Real(p.cycle_length), true, false, true}, [this](const sph::StepInfo&) { end_of_beat(); });
+    stepper.add_event("end of beat", {Real(p.cycle_length), true, false, true, Real(beat_origin(p))},
+                      [this](const sph::StepInfo&) { end_of_beat(); });
   }
 
   void report(sph::RunReport& r) const {
@@ -329,7 +392,6 @@ class HeartRecorder {
     std::vector<double> row;
     for (std::size_t c = 0; c < heart_.cavities.size(); ++c) {
       const double v = heart_.cavity_volume(c);
-      heart_.pressures[c].update(s.time, v);
       if (v > volume_max_[c]) volume_max_[c] = v, volume_min_[c] = v;
       volume_min_[c] = std::min(volume_min_[c], v);
       const double pressure = heart_.pressures[c].at(s.time);
@@ -375,6 +437,192 @@ class HeartRecorder {
   const sph::PointProbes<3> probes_;  // in the reference configuration: material points
 };
 
+/// The 0D circulation coupled to the cavities (cavity_pressure = circulation), and the measures of
+/// each beat. Preload: over [0, preload_time] the cavity pressures ramp to lv_pressure and
+/// rv_pressure over pressure_ramp_time and then hold; at preload_time the circulation starts
+/// (its time 0 is the first stimulus) with the coupled ventricles' blood volumes equal to the
+/// cavity volumes at those pressures. After every coupling step the circulation advances with the
+/// new cavity volumes (cardio/circulation.hpp: V_3D linear over the step) and its ventricular
+/// pressures load the endocardia over the next step. At each beat's end the PV measures of both
+/// ventricles are taken (cardio/beat_metrics.hpp), and the run ends early once both stroke volumes
+/// changed by less than beat_tolerance from the beat before.
+class HeartCirculation {
+ public:
+  HeartCirculation(HeartModel& heart, sph::TimeStepper& stepper, sph::RunHarness& run, const HeartParameters& p, bool quiet)
+      : heart_(heart), p_(p), origin_(beat_origin(p)), quiet_(quiet), circulation_(settings(heart, p)) {
+    if (origin_ == 0) start();
+    else  // a step ends where the circulation starts
+      stepper.add_event("end of preload", {stepper.end_time(), true, true, false, Real(origin_)}, [](const sph::StepInfo&) {});
+    stepper.add_step_callback([this, &stepper](const sph::StepInfo& s) { after_step(s, stepper); });
+    auto columns = circulation_.columns();
+    columns.erase(columns.begin());  // its own time: the run's time is the first column
+    run.add_time_series("circulation.csv", columns, Real(p.sample_interval / 4), [this](const sph::StepInfo&) {
+      auto row = circulation_.row();
+      row.erase(row.begin());
+      return row;
+    });
+  }
+
+  void report(sph::RunReport& r) const {
+    nlohmann::json beats = nlohmann::json::array();
+    for (const auto& beat : beats_) {
+      nlohmann::json b;
+      for (int v = 0; v < 2; ++v) b[v == 0 ? "lv" : "rv"] = measures_json(beat[v]);
+      beats.push_back(b);
+    }
+    r.results["beats"] = beats;
+    r.results["beats_run"] = beats_.size();
+    r.results["beats_to_converge"] = converged_at_;
+    r.results["beat_tolerance"] = p_.beat_tolerance;
+    if (beats_.size() >= 2) {
+      const auto& a = beats_[beats_.size() - 2];
+      const auto& b = beats_.back();
+      r.results["stroke_volume_change_last_beat"] = std::max(relative_change(a[0], b[0]), relative_change(a[1], b[1]));
+    }
+    r.results["total_blood_volume_mm3"] = {initial_blood_, circulation_.total_blood_volume()};
+    r.results["unsettled_valve_steps"] = circulation_.unsettled_valve_steps();
+    r.results["isovolumic_volume_change_mm3"] = {isovolumic_change_[0], isovolumic_change_[1]};
+    if (beats_.empty()) return;
+    // The last beat under the names of the whole-run measures, and its place in the healthy ranges.
+    const auto& last = beats_.back();
+    for (int v = 0; v < 2; ++v) {
+      const std::string name = v == 0 ? "lv" : "rv";
+      r.results[name + "_end_diastolic_volume_mm3"] = last[v].edv;
+      r.results[name + "_end_systolic_volume_mm3"] = last[v].esv;
+      r.results[name + "_stroke_volume_mm3"] = last[v].stroke_volume;
+      r.results[name + "_ejection_fraction"] = last[v].ejection_fraction;
+      r.results[name + "_peak_pressure_kPa"] = last[v].peak_pressure;
+      r.results[name + "_end_diastolic_pressure_kPa"] = last[v].edp;
+      r.results[name + "_dpdt_max_kPa_per_ms"] = last[v].dpdt_max;
+      r.results[name + "_dpdt_min_kPa_per_ms"] = last[v].dpdt_min;
+    }
+    // Healthy adult ranges: LV EF 55-65 % and LV end-diastolic pressure 1-1.6 kPa (8-12 mmHg)
+    // (Lang et al. 2015, J. Am. Soc. Echocardiogr. 28:1, for the EF; Klabunde, Cardiovascular
+    // Physiology Concepts, for the pressures), LV peak systolic 15-17 kPa (110-130 mmHg), RV peak
+    // systolic 3-4 kPa (about 22-30 mmHg).
+    nlohmann::json ranges = nlohmann::json::array();
+    auto range = [&](const char* what, double value, double low, double high) {
+      ranges.push_back({{"quantity", what}, {"value", value}, {"low", low}, {"high", high}, {"inside", value >= low && value <= high}});
+    };
+    range("lv_ejection_fraction", last[0].ejection_fraction, 0.55, 0.65);
+    range("lv_peak_pressure_kPa", last[0].peak_pressure, 15, 17);
+    range("lv_end_diastolic_pressure_kPa", last[0].edp, 1, 1.6);
+    range("rv_peak_pressure_kPa", last[1].peak_pressure, 3, 4);
+    r.results["healthy_ranges"] = ranges;
+  }
+
+  /// pv_loop.png: pressure against volume of both ventricles over every beat (from circulation.csv).
+  void plot(const std::filesystem::path& folder) const {
+    const auto columns = circulation_.columns();
+    auto column = [&](const std::string& name) {
+      const auto it = std::find(columns.begin(), columns.end(), name);
+      return int(it - columns.begin()) + 1;  // 1-based; the run's time replaces the circulation's
+    };
+    CsvPlot pv{"circulation.csv", "pv_loop.png", "pressure-volume loops", "cavity volume [mm^3]", "cavity pressure [kPa]",
+                  {{column("v3d_lv"), column("p_lv"), "LV"}, {column("v3d_rv"), column("p_rv"), "RV"}}};
+    pv.logarithmic = false;
+    pv.style = "lines";
+    plot_csv(folder, pv);
+  }
+
+  const cardio::Circulation& circulation() const { return circulation_; }
+
+ private:
+  static cardio::CirculationSettings settings(const HeartModel& heart, const HeartParameters& p) {
+    bool lv = false, rv = false;
+    for (const auto& c : heart.cavities) lv = lv || c.label == cardio::label_lv_endo, rv = rv || c.label == cardio::label_rv_endo;
+    if (!lv || !rv)
+      throw sph::ParameterError(std::string("cavity_pressure = circulation needs the LV and the RV endocardium of the mesh; no ") +
+                                (lv ? "RV" : "LV") + " endocardium is labelled, so its volume cannot be computed");
+    cardio::CirculationSettings s = p.circulation;
+    s.lv_mode = s.rv_mode = cardio::VentricleMode::coupled;
+    s.heart_period = p.cycle_length;
+    return s;
+  }
+  static nlohmann::json measures_json(const cardio::BeatMeasures& m) {
+    return {{"edv_mm3", m.edv}, {"esv_mm3", m.esv}, {"stroke_volume_mm3", m.stroke_volume}, {"ejection_fraction", m.ejection_fraction},
+            {"edp_kPa", m.edp}, {"peak_pressure_kPa", m.peak_pressure}, {"dpdt_max_kPa_per_ms", m.dpdt_max},
+            {"dpdt_min_kPa_per_ms", m.dpdt_min}};
+  }
+  static double relative_change(const cardio::BeatMeasures& a, const cardio::BeatMeasures& b) {
+    return std::abs(b.stroke_volume - a.stroke_volume) / std::max(std::abs(b.stroke_volume), 1e-12);
+  }
+  std::array<double, 2> volumes() const { return {heart_.cavity_volume(lv_), heart_.cavity_volume(rv_)}; }
+  void start() {
+    for (std::size_t c = 0; c < heart_.cavities.size(); ++c)
+      (heart_.cavities[c].label == cardio::label_lv_endo ? lv_ : rv_) = c;
+    const auto v = volumes();
+    circulation_.initialise(0, v[0], v[1], heart_.pressures[lv_].at(origin_), heart_.pressures[rv_].at(origin_));
+    initial_blood_ = circulation_.total_blood_volume();
+    started_ = true;
+    set_pressures();
+    heart_.pressure_of_volume = [this](std::size_t c, double V) {
+      return circulation_.pressure_at_volume(c == lv_ ? cardio::Ventricle::left : cardio::Ventricle::right, V);
+    };
+  }
+  void set_pressures() {
+    heart_.pressures[lv_].set(circulation_.pressure(cardio::Ventricle::left));
+    heart_.pressures[rv_].set(circulation_.pressure(cardio::Ventricle::right));
+  }
+  void after_step(const sph::StepInfo& s, sph::TimeStepper& stepper) {
+    const double t = s.time, tolerance = 1e-9 * p_.cycle_length;
+    if (!started_) {
+      // Preload: the ramp to the end-diastolic pressures, then rest (CavityPressure in ramp form).
+      const double rise = p_.cavity_pressure.ramp_time > 0 ? std::min(1.0, t / p_.cavity_pressure.ramp_time) : 1.0;
+      for (std::size_t c = 0; c < heart_.cavities.size(); ++c)
+        heart_.pressures[c].set(rise * (heart_.cavities[c].label == cardio::label_lv_endo ? p_.cavity_pressure.lv_pressure
+                                                                                          : p_.cavity_pressure.rv_pressure));
+      if (t >= origin_ - tolerance) start();
+      return;
+    }
+    const auto v = volumes();
+    circulation_.advance(t - s.time_step - origin_, s.time_step, v[0], v[1]);
+    set_pressures();
+    const double p_lv = circulation_.pressure(cardio::Ventricle::left), p_rv = circulation_.pressure(cardio::Ventricle::right);
+    recorders_[0].add(t, v[0], p_lv);
+    recorders_[1].add(t, v[1], p_rv);
+    // Isovolumic phases: the largest change of a cavity's volume while both of its valves are closed.
+    using V = cardio::Valve;
+    const bool closed[2] = {!circulation_.valve_open(V::mitral) && !circulation_.valve_open(V::aortic),
+                            !circulation_.valve_open(V::tricuspid) && !circulation_.valve_open(V::pulmonary)};
+    for (int k = 0; k < 2; ++k) {
+      if (closed[k] && was_closed_[k]) isovolumic_change_[k] = std::max(isovolumic_change_[k], std::abs(v[k] - closed_volume_[k]));
+      if (closed[k] && !was_closed_[k]) closed_volume_[k] = v[k];
+      was_closed_[k] = closed[k];
+    }
+    const double beat_end = origin_ + double(beats_.size() + 1) * p_.cycle_length;
+    if (t >= beat_end - tolerance) {
+      beats_.push_back({recorders_[0].finish(), recorders_[1].finish()});
+      const auto& b = beats_.back();
+      if (!quiet_)
+        std::cout << "beat " << beats_.size() << ": LV EDV " << b[0].edv / 1000 << " mL, EF " << 100 * b[0].ejection_fraction
+                  << " %, peak " << b[0].peak_pressure << " kPa; RV EF " << 100 * b[1].ejection_fraction << " %, peak "
+                  << b[1].peak_pressure << " kPa\n" << std::flush;
+      if (beats_.size() >= 2 && converged_at_ < 0 && p_.beat_tolerance > 0) {
+        const auto& a = beats_[beats_.size() - 2];
+        if (relative_change(a[0], b[0]) < p_.beat_tolerance && relative_change(a[1], b[1]) < p_.beat_tolerance) {
+          converged_at_ = long(beats_.size());
+          stepper.stop_after_this_step();
+        }
+      }
+    }
+  }
+
+  HeartModel& heart_;
+  const HeartParameters& p_;
+  const double origin_;
+  const bool quiet_;
+  cardio::Circulation circulation_;
+  std::size_t lv_ = 0, rv_ = 1;
+  bool started_ = false;
+  double initial_blood_ = 0;
+  cardio::BeatRecorder recorders_[2];
+  std::vector<std::array<cardio::BeatMeasures, 2>> beats_;
+  long converged_at_ = -1;
+  bool was_closed_[2] = {false, false};
+  double closed_volume_[2] = {0, 0}, isovolumic_change_[2] = {0, 0};
+};
+
 class HeartScene final : public Scene {
  public:
   HeartScene() {
@@ -414,14 +662,26 @@ class HeartScene final : public Scene {
           sph::Range::positive());
     p.add("stimulus_strength", p_.stimulus_strength, "mV/ms", "applied dV/dt of each pulse", sph::Range::positive());
     p.add("stimulus_duration", p_.stimulus_duration, "ms", "length of each pulse", sph::Range::positive());
-    p.add("beats", p_.beats, "1", "number of paced beats", sph::Range::closed(1, 1000));
+    p.add("beats", p_.beats, "1", "number of paced beats (at most, with the circulation and beat_tolerance > 0)",
+          sph::Range::closed(1, 1000));
+    p.add("beat_tolerance", p_.beat_tolerance, "1",
+          "stop once both stroke volumes changed by less than this fraction from the beat before (circulation; 0: every beat)",
+          sph::Range::closed(0, 1));
     p.add("cycle_length", p_.cycle_length, "ms", "pacing period", sph::Range::positive());
-    p.add("end_time", p_.end_time, "ms", "simulated time (0: beats x cycle_length)", sph::Range::non_negative());
+    p.add("end_time", p_.end_time, "ms", "simulated time (0: preload_time + beats x cycle_length)", sph::Range::non_negative());
     cardio::declare_parameters(p, p_.monodomain, "ms");
     p.add("deformed_conduction", p_.coupling.deformed_conduction,
           "conduction follows the deformed fibres (D pulled back through F); false: D of the reference configuration");
     p.add("conduction_update_interval", p_.coupling.conduction_update_interval, "ms",
           "time between updates of the pulled-back D", sph::Range::positive());
+    p.add_enum("tension_model", p_.tension_model,
+               {{"land_2017", cardio::TensionModel::land_2017}, {"nash_panfilov", cardio::TensionModel::nash_panfilov}},
+               "active tension: Land et al. 2017 crossbridges driven by the calcium of ten Tusscher-Panfilov and the fibre "
+               "stretch, or Nash-Panfilov driven by the potential (k_a, tension_*)");
+    p.add("land_reference_tension", p_.land_reference_tension, "kPa", "T_ref of the Land model (maximal isometric tension; "
+          "Land et al. 2017: 120)", sph::Range::positive());
+    p.add("land_velocity_dependence", p_.land_velocity_dependence,
+          "the Land model sees the fibre stretch rate (crossbridge distortion); false: the length dependence only");
     p.add("k_a", p_.k_a, "kPa/mV", "active tension per mV above rest (Nash-Panfilov k_a; 0.001 = the 100 Pa per unit of u of the SPHinXsys heart)",
           sph::Range::non_negative());
     p.add("tension_threshold", p_.tension_threshold, "mV", "V_th - V_r of the activation function eps(V)", sph::Range::any());
@@ -438,7 +698,17 @@ class HeartScene final : public Scene {
     p.add("clamp_depth", p_.clamp_depth, "mm",
           "fixed particles: 0, those labelled base; > 0, every particle within this distance of the base plane",
           sph::Range::non_negative());
+    p.add_enum("base_condition", p_.base_condition, {{"springs", BaseCondition::springs}, {"clamp", BaseCondition::clamp}},
+               "the base: springs (base_stiffness) with the pericardium as normal springs on the epicardium "
+               "(pericardium_stiffness), or clamped (clamp_depth; no pericardium)");
+    p.add("pericardium_stiffness", p_.pericardium_stiffness, "kPa/mm",
+          "normal spring per epicardial area (Robin condition; Regazzoni et al. 2022: 0.2)", sph::Range::non_negative());
+    p.add("base_stiffness", p_.base_stiffness, "kPa/mm", "spring per base area, every direction", sph::Range::non_negative());
     cardio::declare_parameters(p, p_.cavity_pressure);
+    p.add("preload_time", p_.preload_time, "ms",
+          "with cavity_pressure = circulation: time before the first stimulus, in which the cavities are inflated to "
+          "lv_pressure and rv_pressure (ramped over pressure_ramp_time)", sph::Range::non_negative());
+    cardio::declare_parameters(p, p_.circulation);
     p.add("sample_interval", p_.sample_interval, "ms", "time between rows of cavities.csv and observers.csv",
           sph::Range::positive());
     declare_solid_numerics(p, p_.numerics, "ms");
@@ -446,6 +716,20 @@ class HeartScene final : public Scene {
 
   void check() const override {
     (void)p_.geometry.resolved(preset_spacing(p_.preset));
+    if (p_.tension_model == cardio::TensionModel::land_2017 && p_.cell_model != CellModel::ten_tusscher_panfilov)
+      throw sph::ParameterError("parameter 'tension_model' = land_2017 needs the calcium of cell_model = ten_tusscher_panfilov");
+    if (p_.cavity_pressure.mode == cardio::CavityPressureMode::circulation) {
+      if (p_.preload_time < p_.cavity_pressure.ramp_time)
+        throw sph::ParameterError("parameter 'preload_time' must be at least 'pressure_ramp_time' (the preload ramp)");
+      try {
+        auto c = p_.circulation;
+        c.lv_mode = c.rv_mode = cardio::VentricleMode::coupled;
+        c.heart_period = p_.cycle_length;
+        c.check();
+      } catch (const std::invalid_argument& e) {
+        throw sph::ParameterError(e.what());
+      }
+    }
     if (p_.stimulus_duration >= p_.cycle_length)
       throw sph::ParameterError("parameter 'stimulus_duration' must be shorter than 'cycle_length'");
     if (p_.stimulus_site == StimulusSite::box && !(p_.stimulus_box_min.array() < p_.stimulus_box_max.array()).all())
@@ -469,6 +753,10 @@ class HeartScene final : public Scene {
             {"smoothing_length_ratio", "1.15"},
             {"kernel", "wendland_c2"},
             {"cell_model", "aliev_panfilov_dimensionless"},
+            {"tension_model", "nash_panfilov"},
+            {"cavity_pressure", "none"},
+            {"base_condition", "clamp"},
+            {"beats", "1"},
             {"diffusivity_fibre", "0.8"},
             {"diffusivity_cross", "0.8"},
             {"ep_time_step", "1.102"},
@@ -511,7 +799,7 @@ void HeartScene::run(RunContext& ctx) {
   HeartModel heart(p_, g, gs);
 
   // 3. Coupling: the electromechanical stage and its conduction update (cardio/electromechanics.hpp).
-  const double end_time = p_.end_time > 0 ? p_.end_time : double(p_.beats) * p_.cycle_length;
+  const double end_time = p_.end_time > 0 ? p_.end_time : beat_origin(p_) + double(p_.beats) * p_.cycle_length;
   sph::TimeStepper stepper(0, Real(end_time));
   sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, "heart", ctx.quiet});
   cardio::add_electromechanics<3>(stepper, heart.monodomain, heart.tension, heart.solid, p_.coupling, run.timers());
@@ -520,6 +808,8 @@ void HeartScene::run(RunContext& ctx) {
   run.add_body(heart.body, Real(p_.numerics.discretisation.output_interval), [&](double) { heart.solid.update_output_fields(); });
   run.add_relation("heart", heart.relation);
   HeartRecorder recorder(heart, run, stepper, p_);
+  std::optional<HeartCirculation> circulation;
+  if (p_.cavity_pressure.mode == cardio::CavityPressureMode::circulation) circulation.emplace(heart, stepper, run, p_, ctx.quiet);
   auto& r = ctx.report;
   r.results["initial_mechanics_time_step_ms"] = heart.solid.stable_time_step();
   r.results["diffusion_time_step_limit_ms"] = heart.monodomain.diffusion_time_step();
@@ -527,6 +817,10 @@ void HeartScene::run(RunContext& ctx) {
 
   // 5. Report.
   recorder.report(r);
+  if (circulation) {
+    circulation->report(r);
+    circulation->plot(ctx.output_dir);
+  }
   r.results["particle_spacing_mm"] = heart.dp;
   r.results["geometry_from_cache"] = g.from_cache;
   r.results["fixed_base_particles"] = heart.base.size();
@@ -549,7 +843,8 @@ void HeartScene::run(RunContext& ctx) {
   if (mechanics_substeps > 0)
     r.results["mechanics_microseconds_per_particle_step"] =
         1e6 * timers.seconds("mechanics") / (double(mechanics_substeps) * double(heart.n()));
-  r.results["seconds_per_beat"] = run.time_loop_seconds() / (end_time / p_.cycle_length);
+  const double beats_run = std::max(1e-9, (double(stepper.end_time()) - beat_origin(p_)) / p_.cycle_length);
+  r.results["seconds_per_beat"] = run.time_loop_seconds() / beats_run;
   r.results["total_seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
 }
 

@@ -156,14 +156,14 @@ class CellScene final : public Scene {
     }
     const std::string file = "cell_" + name + ".csv";
     sph::write_file_atomically(ctx.output_dir / file, csv.str());
-    LogLogPlot plot{file, "cell_" + name + ".png", name + ": error against wall time (CVODE reference)", "wall time [s]",
+    CsvPlot plot{file, "cell_" + name + ".png", name + ": error against wall time (CVODE reference)", "wall time [s]",
                     "RMS voltage error [mV], APD90 error [ms]", {}};
     for (std::size_t s = 0; s < schemes.size(); ++s) {
       const int first = 2 + 4 * static_cast<int>(s);
       plot.series.push_back({first, first + 1, std::string(sph::to_string(schemes[s])) + " RMS V", ""});
       plot.series.push_back({first, first + 3, std::string(sph::to_string(schemes[s])) + " APD90", ""});
     }
-    plot_log_log(ctx.output_dir, plot);
+    plot_csv(ctx.output_dir, plot);
   }
 #endif
   CellParameters p_;

@@ -1,0 +1,55 @@
+#pragma once
+// The clinical measures of one ventricle over one beat, from its pressure-volume trace sampled at
+// every coupling step:
+//   EDV  end-diastolic volume, the largest volume of the beat; EDP the pressure there;
+//   ESV  end-systolic volume, the smallest volume of the beat;
+//   SV = EDV - ESV, EF = SV / EDV;
+//   peak pressure, and dP/dt max and min (the steepest rise and fall between two samples).
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace cardio {
+
+struct BeatMeasures {
+  double edv = 0, esv = 0, stroke_volume = 0, ejection_fraction = 0;  ///< [mm^3], [1]
+  double edp = 0, peak_pressure = 0;                                  ///< [kPa]
+  double dpdt_max = 0, dpdt_min = 0;                                  ///< [kPa/ms]
+};
+
+class BeatRecorder {
+ public:
+  /// Adds the sample (t [ms], V [mm^3], p [kPa]).
+  void add(double t, double volume, double pressure) {
+    if (count_ > 0 && t > last_t_) {
+      const double slope = (pressure - last_p_) / (t - last_t_);
+      m_.dpdt_max = std::max(m_.dpdt_max, slope);
+      m_.dpdt_min = std::min(m_.dpdt_min, slope);
+    }
+    if (count_ == 0 || volume > m_.edv) m_.edv = volume, m_.edp = pressure;
+    if (count_ == 0 || volume < m_.esv) m_.esv = volume;
+    m_.peak_pressure = count_ == 0 ? pressure : std::max(m_.peak_pressure, pressure);
+    last_t_ = t, last_p_ = pressure;
+    ++count_;
+  }
+  /// The measures of the samples since the last call; starts the next beat with the last sample.
+  BeatMeasures finish() {
+    BeatMeasures m = m_;
+    m.stroke_volume = m.edv - m.esv;
+    m.ejection_fraction = m.edv > 0 ? m.stroke_volume / m.edv : 0;
+    const double t = last_t_, p = last_p_;
+    m_ = {};
+    count_ = 0;
+    last_t_ = t, last_p_ = p;
+    return m;
+  }
+  long samples() const { return count_; }
+
+ private:
+  BeatMeasures m_;
+  long count_ = 0;
+  double last_t_ = 0, last_p_ = 0;
+};
+
+}  // namespace cardio
