@@ -34,6 +34,7 @@ ActiveTension<Dim>::ActiveTension(const sph::ParticleSet<Dim>& particles, sph::F
     }
     stretch_.assign(n, 1);
     previous_stretch_.assign(n, 1);
+    if (settings_.velocity_dependence) stiffness_.assign(n, 0);
   }
 }
 
@@ -43,14 +44,18 @@ void ActiveTension<Dim>::advance(Real time, Real dt) {
   const ActiveTensionSettings& s = settings_;
   std::swap(start_, end_);
   if (s.model == TensionModel::land_2017) {
+    const bool stiff = !stiffness_.empty();
     sph::parallel_for(y.size(), [&](std::size_t i) {
       const double calcium = s.calcium_scale * 0.5 * (double(synced_driver_[i]) + double(y[i]));
-      const double lambda = stretch_[i];
-      const double rate = s.velocity_dependence ? (double(stretch_[i]) - double(previous_stretch_[i])) / double(dt) : 0.0;
-      land_.step(states_[i], calcium, lambda, rate, double(dt));
-      double T = land_.tension(states_[i], lambda);
+      const double lambda = stretch_[i], change = double(stretch_[i]) - double(previous_stretch_[i]);
+      // Where the last step ended: the tension the solid applied there (see the header).
+      if (stiff) start_[i] = static_cast<Real>(double(start_[i]) + double(stiffness_[i]) * change);
+      land_.step(states_[i], calcium, lambda, s.velocity_dependence ? change / double(dt) : 0.0, double(dt));
+      const auto& z = states_[i];
+      double T = land_.tension(z, lambda);
       if (!s.allow_negative) T = std::max(T, 0.0);
       end_[i] = static_cast<Real>(T);
+      if (stiff) stiffness_[i] = static_cast<Real>(land_.stretch_stiffness(z, lambda));
       synced_driver_[i] = y[i];
       previous_stretch_[i] = stretch_[i];
     });

@@ -7,6 +7,14 @@
 //   set before the step (set_fibre_stretch; the solid's F of the last mechanics sub-step) and
 //   dlambda/dt as the change of lambda since the previous step over dt; T_a is the model's tension
 //   at the end of the step. T_a may not fall below zero unless allow_negative.
+//   The velocity dependence (the crossbridge distortions zeta, which answer a stretch change with
+//   dzeta = A dlambda at once) makes T_a stiff in lambda: k = dT/dlambda = h T_ref / r_s A (XS + XW),
+//   about ten times T_a. Lagged by a coupling step, this stiffness drives an oscillation that grows
+//   (the heart inverts within tens of ms). So the tension also hands the solid k and the stretch
+//   lambda_0 it was computed at (stiffness(), reference_stretch()), and the solid applies
+//   T_a + k (lambda - lambda_0) at every sub-step (ElasticSolid::Settings::active_stiffness); the
+//   next step starts from that value, T_a + k (lambda - lambda_0) at the step's end, so the tension
+//   is continuous, and the model's states take up the stretch change through dlambda/dt.
 // - nash_panfilov: phenomenological tension driven by the transmembrane potential (Nash & Panfilov 2004,
 // Prog. Biophys. Mol. Biol. 85:501, eq. 4), with the smooth activation function of Wong et al. 2011
 // (CMAME 200:3139):
@@ -87,6 +95,10 @@ class ActiveTension {
   /// The fibre stretch lambda per particle for the next step (land_2017), to be written by the
   /// caller or the interaction with the solid (cardio/electromechanics.hpp).
   std::span<Real> fibre_stretch() { return stretch_; }
+  /// k = dT/dlambda of the crossbridge distortions and the stretch lambda_0 of the last step
+  /// (land_2017 with velocity_dependence; empty otherwise).
+  const std::vector<Real>& stiffness() const { return stiffness_; }
+  const std::vector<Real>& reference_stretch() const { return previous_stretch_; }
   bool needs_fibre_stretch() const { return settings_.model == TensionModel::land_2017; }
 
   /// T_a at time + fraction * dt of the last step (fraction in [0, 1]) into `tension`.
@@ -105,7 +117,7 @@ class ActiveTension {
   // Land 2017: the crossbridge states and the stretch now and at the previous step.
   Land2017 land_;
   std::vector<Land2017::State> states_;
-  std::vector<Real> stretch_, previous_stretch_;
+  std::vector<Real> stretch_, previous_stretch_, stiffness_;
   Real step_start_ = 0, step_size_ = 0;
 };
 

@@ -4,7 +4,9 @@
 //   EDV  end-diastolic volume, the largest volume of the beat; EDP the pressure there;
 //   ESV  end-systolic volume, the smallest volume of the beat;
 //   SV = EDV - ESV, EF = SV / EDV;
-//   peak pressure, and dP/dt max and min (the steepest rise and fall between two samples).
+//   peak pressure, and dP/dt max and min: the steepest rise and fall of the pressure over differences
+//   at least `window` apart (default 2 ms; the coupling step's pressure carries the penalty's
+//   small-scale noise, which a difference over 0.1 ms would turn into dP/dt).
 
 #include <algorithm>
 #include <cmath>
@@ -20,35 +22,39 @@ struct BeatMeasures {
 
 class BeatRecorder {
  public:
+  explicit BeatRecorder(double window = 2) : window_(window) {}
   /// Adds the sample (t [ms], V [mm^3], p [kPa]).
   void add(double t, double volume, double pressure) {
-    if (count_ > 0 && t > last_t_) {
+    if (!has_last_) {
+      last_t_ = t, last_p_ = pressure, has_last_ = true;
+    } else if (t - last_t_ >= window_) {
       const double slope = (pressure - last_p_) / (t - last_t_);
       m_.dpdt_max = std::max(m_.dpdt_max, slope);
       m_.dpdt_min = std::min(m_.dpdt_min, slope);
+      last_t_ = t, last_p_ = pressure;
     }
     if (count_ == 0 || volume > m_.edv) m_.edv = volume, m_.edp = pressure;
     if (count_ == 0 || volume < m_.esv) m_.esv = volume;
     m_.peak_pressure = count_ == 0 ? pressure : std::max(m_.peak_pressure, pressure);
-    last_t_ = t, last_p_ = pressure;
     ++count_;
   }
-  /// The measures of the samples since the last call; starts the next beat with the last sample.
+  /// The measures of the samples since the last call (the next beat's dP/dt continues from the
+  /// last difference point).
   BeatMeasures finish() {
     BeatMeasures m = m_;
     m.stroke_volume = m.edv - m.esv;
     m.ejection_fraction = m.edv > 0 ? m.stroke_volume / m.edv : 0;
-    const double t = last_t_, p = last_p_;
     m_ = {};
     count_ = 0;
-    last_t_ = t, last_p_ = p;
     return m;
   }
   long samples() const { return count_; }
 
  private:
+  double window_;
   BeatMeasures m_;
   long count_ = 0;
+  bool has_last_ = false;
   double last_t_ = 0, last_p_ = 0;
 };
 

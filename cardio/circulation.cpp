@@ -130,15 +130,17 @@ void CirculationSettings::check() const {
   finite(initial_pulmonary_venous_pressure, "initial pulmonary venous pressure", "initial_pulmonary_venous_pressure");
 }
 
-void declare_parameters(sph::Parameters& p, CirculationSettings& s) {
+void declare_parameters(sph::Parameters& p, CirculationSettings& s, bool ventricles) {
   using sph::Range;
   p.add_enum("circulation_model", s.model, circulation_model_names(),
              "0D circulation: windkessel (filling pressure and three-element Windkessel per ventricle, open loop) or "
              "closed_loop (Regazzoni et al. 2022: atria, valves, systemic and pulmonary R-L-C compartments)");
-  p.add_enum("circulation_lv_mode", s.lv_mode, ventricle_mode_names(),
-             "LV: 0D time-varying elastance chamber, or coupled (volume from the 3D mechanics, penalty pressure)");
-  p.add_enum("circulation_rv_mode", s.rv_mode, ventricle_mode_names(), "RV: elastance or coupled, as circulation_lv_mode");
-  p.add("circulation_heart_period", s.heart_period, "ms", "heart period T_HB of the chamber activations", Range::positive());
+  if (ventricles) {
+    p.add_enum("circulation_lv_mode", s.lv_mode, ventricle_mode_names(),
+               "LV: 0D time-varying elastance chamber, or coupled (volume from the 3D mechanics, penalty pressure)");
+    p.add_enum("circulation_rv_mode", s.rv_mode, ventricle_mode_names(), "RV: elastance or coupled, as circulation_lv_mode");
+    p.add("circulation_heart_period", s.heart_period, "ms", "heart period T_HB of the chamber activations", Range::positive());
+  }
   p.add("circulation_cavity_compliance", s.cavity_compliance, "mm^3/kPa",
         "C_c of a coupled ventricle: p = p_ref + (V_b - V_3D)/C_c; while the valves are closed V_3D can move only by "
         "C_c times the pressure change",
@@ -169,9 +171,9 @@ void declare_parameters(sph::Parameters& p, CirculationSettings& s) {
     p.add(k + "relaxation_duration", c.relaxation_duration, "ms", label + " relaxation duration T_R", Range::positive());
   };
   chamber("la", "LA", s.la);
-  chamber("lv", "LV (elastance mode)", s.lv);
+  if (ventricles) chamber("lv", "LV (elastance mode)", s.lv);
   chamber("ra", "RA", s.ra);
-  chamber("rv", "RV (elastance mode)", s.rv);
+  if (ventricles) chamber("rv", "RV (elastance mode)", s.rv);
 
   auto vessel = [&p](const std::string& key, const std::string& label, VesselSettings& v) {
     const std::string k = "circulation_" + key + "_";
@@ -197,9 +199,11 @@ void declare_parameters(sph::Parameters& p, CirculationSettings& s) {
   load("rv", "RV (pulmonary) Windkessel:", s.rv_windkessel);
 
   p.add("circulation_initial_la_volume", s.initial_la_volume, "mm^3", "initial LA volume", Range::non_negative());
-  p.add("circulation_initial_lv_volume", s.initial_lv_volume, "mm^3", "initial LV volume (elastance mode)", Range::non_negative());
+  if (ventricles)
+    p.add("circulation_initial_lv_volume", s.initial_lv_volume, "mm^3", "initial LV volume (elastance mode)", Range::non_negative());
   p.add("circulation_initial_ra_volume", s.initial_ra_volume, "mm^3", "initial RA volume", Range::non_negative());
-  p.add("circulation_initial_rv_volume", s.initial_rv_volume, "mm^3", "initial RV volume (elastance mode)", Range::non_negative());
+  if (ventricles)
+    p.add("circulation_initial_rv_volume", s.initial_rv_volume, "mm^3", "initial RV volume (elastance mode)", Range::non_negative());
   p.add("circulation_initial_systemic_arterial_pressure", s.initial_systemic_arterial_pressure, "kPa",
         "initial p_AR_SYS (closed loop) or p_C of the LV Windkessel");
   p.add("circulation_initial_systemic_venous_pressure", s.initial_systemic_venous_pressure, "kPa", "initial p_VEN_SYS");

@@ -225,7 +225,10 @@ struct CirculationSettings {
 /// {resistance,compliance,inductance}, circulation_{lv,rv}_windkessel_{filling_pressure,
 /// characteristic_impedance,resistance,compliance,distal_pressure} and circulation_initial_{la,lv,
 /// ra,rv}_volume, circulation_initial_{systemic,pulmonary}_{arterial,venous}_pressure.
-void declare_parameters(sph::Parameters& p, CirculationSettings& settings);
+/// With `ventricles` false (the ventricles are the caller's 3D cavities, as in the heart), the
+/// ventricle modes, the heart period, the ventricular elastance chambers and their initial volumes
+/// are left out.
+void declare_parameters(sph::Parameters& p, CirculationSettings& settings, bool ventricles = true);
 
 class Circulation {
  public:

@@ -27,6 +27,12 @@ template <int Dim>
 void interact(sph::ElasticSolid<Dim>& on, const ActiveTension<Dim>& by, sph::SameParticles, Real time, Real dt) {
   const Real fraction = (time + dt / 2 - by.step_start()) / by.step_size();
   by.interpolate(fraction, on.particles().field(on.active_tension_field()));
+  if (on.active_stiffness_field().valid() && !by.stiffness().empty()) {
+    const auto k = on.particles().field(on.active_stiffness_field());
+    const auto l0 = on.particles().field(on.active_reference_stretch_field());
+    std::copy(by.stiffness().begin(), by.stiffness().end(), k.begin());
+    std::copy(by.reference_stretch().begin(), by.reference_stretch().end(), l0.begin());
+  }
 }
 
 template <int Dim>

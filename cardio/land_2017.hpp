@@ -109,6 +109,11 @@ class Land2017 {
   double tension(const State& y, double lambda) const {
     return overlap(lambda) * p_.T_ref / p_.r_s * ((y[zeta_s] + 1) * y[XS] + y[zeta_w] * y[XW]);
   }
+  /// dT_a/dlambda of an instantaneous stretch change: the distortions jump by A dlambda, so
+  /// k = h(lambda) T_ref / r_s A (XS + XW) (the overlap factor's own slope left out).
+  double stretch_stiffness(const State& y, double lambda) const {
+    return overlap(lambda) * p_.T_ref / p_.r_s * A_ * (y[XS] + y[XW]);
+  }
   /// h(lambda), the filament-overlap factor.
   double overlap(double lambda) const {
     const double l = std::min(lambda, 1.2);

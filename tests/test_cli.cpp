@@ -279,5 +279,22 @@ TEST_F(Cli, HeartRejectsAMeshWithoutVentricles) {
   expect_rejected({"heart", mesh.string(), "--dp", "2", "--set", "cache=none", "--set", "relaxation_steps=0"}, "no endocardium");
 }
 
+TEST_F(Cli, HeartRejectsAnImpossibleCirculation) {
+  expect_rejected({"heart", "--set", "circulation_systemic_arterial_compliance=-1"}, "circulation_systemic_arterial_compliance");
+  expect_rejected({"heart", "--set", "circulation_aortic_resistance=0"}, "circulation_aortic_resistance");
+}
+TEST_F(Cli, HeartRejectsTheLandTensionWithoutCalcium) {
+  expect_rejected({"heart", "--set", "cell_model=aliev_panfilov"}, "tension_model");
+}
+TEST_F(Cli, HeartRejectsTheCirculationOnAMeshWithoutAnRvCavity) {
+  // The shipped LV ellipsoid: one endocardium, so no RV volume for the closed loop.
+  const fs::path meshes = fs::path(CARDIOSPH_SOURCE_DIR) / "meshes";
+  expect_rejected({"heart", (meshes / "lv_ellipsoid.stl").string(), "--dp", "2", "--set", "cache=none", "--set",
+                   "epi_surface=" + (meshes / "lv_ellipsoid_epi.stl").string(), "--set",
+                   "lv_surface=" + (meshes / "lv_ellipsoid_lv_endo.stl").string(), "--set",
+                   "base_surface=" + (meshes / "lv_ellipsoid_base.stl").string()},
+                  "RV endocardium");
+}
+
 }  // namespace
 

@@ -80,6 +80,25 @@ TEST(Land2017, ShorteningLowersAndLengtheningRaisesTheTension) {
   EXPECT_GT(tension[1][1], 1.05 * tension[1][0]);
 }
 
+// The stiffness the solid applies within a coupling step (ActiveTension, velocity dependence) is
+// the model's own response to a sudden stretch: a step of dlambda over a vanishing time changes
+// T_a by k dlambda (plus the overlap factor's slope beta_0 T_a / h dlambda, left out of k; compared
+// at lambda = 0.95, below the overlap's kink, with it added back).
+TEST(Land2017, StretchStiffnessIsTheResponseToASuddenStretch) {
+  const Land2017 model;
+  for (double calcium : {0.5, 1.0, 3.0}) {
+    auto y = model.steady_state(calcium, 0.95);
+    const double T0 = model.tension(y, 0.95), k = model.stretch_stiffness(y, 0.95);
+    const double d = 1e-6, dt = 1e-9;
+    model.step(y, calcium, 0.95 + d, d / dt, dt);
+    const double measured = (model.tension(y, 0.95 + d) - T0) / d;
+    const double overlap_slope = model.parameters().beta_0 * T0 / model.overlap(0.95);  // dh/dlambda = beta_0 here
+    std::printf("[ Land2017 ] Ca %.1f uM: k = %.1f kPa, sudden-stretch response %.1f kPa (overlap part %.1f)\n", calcium, k,
+                measured, overlap_slope);
+    EXPECT_NEAR(measured, k + overlap_slope, 1e-3 * k);
+  }
+}
+
 TEST(Land2017, LongStepsStayBoundedAndFinite) {
   const Land2017 model;
   auto y = model.steady_state(0.1);

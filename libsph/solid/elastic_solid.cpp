@@ -86,6 +86,10 @@ ElasticSolid<Dim>::ElasticSolid(ParticleSet<Dim>& particles, const InnerRelation
   if (settings_.active_stress) {
     if (!anisotropic) throw std::invalid_argument(body + ": active stress needs a law with fibre directions");
     active_tension_ = particles_.template register_field<Real>("active_tension", Real(0));
+    if (settings_.active_stiffness) {
+      active_stiffness_ = particles_.template register_field<Real>("active_stiffness", Real(0), false);
+      active_reference_stretch_ = particles_.template register_field<Real>("active_reference_stretch", Real(1), false);
+    }
   }
   // The reference geometry of every pair, once, compactly (single precision, antisymmetric in i, j
   // exactly, so that the pair forces still cancel to round-off).
@@ -473,6 +477,11 @@ std::size_t ElasticSolid<Dim>::deformation_and_stress() {
         const auto s = anisotropic_field(sheet_);
         const std::span<const Real> T =
             active_tension_.valid() ? std::span<const Real>(particles_.field(active_tension_)) : std::span<const Real>();
+        const std::span<const Real> K =
+            active_stiffness_.valid() ? std::span<const Real>(particles_.field(active_stiffness_)) : std::span<const Real>();
+        const std::span<const Real> L0 = active_reference_stretch_.valid()
+                                             ? std::span<const Real>(particles_.field(active_reference_stretch_))
+                                             : std::span<const Real>();
         return first_index_where(n, [&](std::size_t i) {
           const Mat<Dim> Fi = deformation_gradient_of(i, x, V, B);
           F[i] = Fi;
@@ -485,7 +494,10 @@ std::size_t ElasticSolid<Dim>::deformation_and_stress() {
           auto stress_at = [&](const Mat<Dim>& Fg) -> Mat<Dim> {
             if constexpr (Law::anisotropic) {
               Mat<Dim> S = law.second_piola(Fg, f[i], s[i]);
-              if (!T.empty()) S.noalias() += T[i] * (f[i] * f[i].transpose());
+              if (!T.empty()) {
+                const Real tension = K.empty() ? T[i] : T[i] + K[i] * ((Fg * f[i]).norm() - L0[i]);
+                S.noalias() += tension * (f[i] * f[i].transpose());
+              }
               return Fg * S;
             } else {
               const Vec<Dim> none = Vec<Dim>::Zero();
@@ -543,6 +555,7 @@ void ElasticSolid<Dim>::update_current_sound_speed() {
             const Mat<Dim> dP = first_piola<Dim>(law, Mat<Dim>(F[i] + delta * E), f, s) - P;
             modulus = std::max(modulus, (dP.cwiseProduct(E)).sum() / delta);
           }
+          if (active_stiffness_.valid()) modulus += particles_.field(active_stiffness_)[i];
           return std::isfinite(modulus) ? modulus : Real(0);
         });
       },

@@ -50,6 +50,11 @@
 // a tension T_a [stress] per particle along the reference fibre f0 (field "active_tension", set by
 // the caller: prescribed, or from the electrophysiology by cardio/active_tension.hpp). The active
 // part derives from no stored energy, so energies() reports the passive strain energy only.
+// With Settings::active_stiffness the tension also follows the fibre stretch within a step,
+//   T = T_a + k_a (lambda - lambda_0),   lambda = |F f0|,
+// with k_a and lambda_0 per particle (fields "active_stiffness", "active_reference_stretch", set by
+// the caller): the instantaneous stiffness of attached crossbridges (cardio/active_tension.hpp),
+// evaluated at every sub-step so that it needs no lag; k_a enters the tangent time step.
 //
 // Fields it registers (written to output unless noted): velocity, displacement, jacobian (J),
 // von_mises_stress, and for the anisotropic laws fiber_direction, sheet_direction and fiber_stretch;
@@ -116,6 +121,8 @@ class ElasticSolid {
     Vec<Dim> fiber = Vec<Dim>::UnitX();      ///< initial (uniform) fibre direction, anisotropic laws
     Vec<Dim> sheet = Vec<Dim>::UnitY();      ///< initial (uniform) sheet direction
     bool active_stress = false;              ///< add T_a f0 (x) f0 to S (anisotropic laws only)
+    /// With active_stress: T_a + k_a (lambda - lambda_0) in place of T_a, lambda = |F f0| (see above).
+    bool active_stiffness = false;
   };
 
   using Motion = std::function<Vec<Dim>(const Vec<Dim>& reference, Real time)>;
@@ -197,6 +204,9 @@ class ElasticSolid {
   FieldHandle<Mat<Dim>> deformation_gradient_field() const { return deformation_gradient_; }
   /// T_a per particle [stress]; valid with Settings::active_stress only.
   FieldHandle<Real> active_tension_field() const { return active_tension_; }
+  /// k_a and lambda_0 per particle; valid with Settings::active_stiffness only.
+  FieldHandle<Real> active_stiffness_field() const { return active_stiffness_; }
+  FieldHandle<Real> active_reference_stretch_field() const { return active_reference_stretch_; }
   /// Cauchy stress of particle i from its current F (after update_output_fields or a step).
   Mat<Dim> cauchy_stress_of(std::size_t i) const;
   /// Small-strain sound speed c0 = sqrt(M / rho0) of the law.
@@ -310,7 +320,7 @@ class ElasticSolid {
   std::size_t steps_ = 0;
   FieldHandle<Vec<Dim>> reference_position_, velocity_, acceleration_, displacement_, fiber_, sheet_;
   FieldHandle<Mat<Dim>> deformation_gradient_, correction_matrix_, stress_correction_;
-  FieldHandle<Real> jacobian_, von_mises_, fiber_stretch_, active_tension_;
+  FieldHandle<Real> jacobian_, von_mises_, fiber_stretch_, active_tension_, active_stiffness_, active_reference_stretch_;
 
   std::vector<Index> clamped_;
   std::vector<std::pair<Index, Index>> reflected_;  // (clamped particle, its free mirror)

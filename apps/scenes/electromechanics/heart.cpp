@@ -45,6 +45,7 @@ enum class CellModel { aliev_panfilov, aliev_panfilov_dimensionless, ten_tussche
 enum class StimulusSite { lv_apex, point, box };
 enum class Preset { coarse, standard, fine, sphinxsys };
 enum class BaseCondition { springs, clamp };
+enum class PassiveLaw { holzapfel_ogden_2009, zhang_2021 };
 
 struct HeartParameters {
   HeartGeometryParameters geometry;
@@ -68,15 +69,18 @@ struct HeartParameters {
   cardio::ElectromechanicsSettings coupling;
   // Active tension.
   cardio::TensionModel tension_model = cardio::TensionModel::land_2017;
-  double land_reference_tension = 120;  ///< T_ref [kPa]
+  double land_reference_tension = 400;  ///< T_ref [kPa] (calibrated, docs/electromechanics.md)
   bool land_velocity_dependence = true;
   double k_a = 0.01;
   double tension_threshold = 1;  ///< V_th - V_r [mV]
   bool tension_allow_negative = false;
   cardio::ActiveTensionSettings tension_rates;  ///< eps_0, eps_inf and xi (k_a and V_th are set above)
   // Mechanics.
+  PassiveLaw passive_law = PassiveLaw::holzapfel_ogden_2009;
   double density = 1.06;
-  double bulk_modulus = 100;
+  /// Near incompressibility under tensions of tens of kPa: |J - 1| of a few per cent (at 100 kPa,
+  /// the value of the potential-driven heart, the Land tension compresses the wall by 20 %).
+  double bulk_modulus = 1000;
   double damping_rate = 0.02;
   double clamp_depth = 0;  ///< 0: the particles labelled base; > 0: every particle this close to the base plane
   BaseCondition base_condition = BaseCondition::springs;
@@ -136,7 +140,7 @@ class HeartModel {
         base(attach_heart_geometry(solid, g, "heart", Real(p.clamp_depth), p.base_condition == BaseCondition::clamp)),
         ttp(p.cell_model == CellModel::ten_tusscher_panfilov),
         dimensionless(p.cell_model == CellModel::aliev_panfilov_dimensionless),
-        D_fibre(p.diffusivity_fibre > 0 ? p.diffusivity_fibre : (ttp ? 0.13 : 1.0)),
+        D_fibre(p.diffusivity_fibre > 0 ? p.diffusivity_fibre : 1.0),
         D_cross(p.diffusivity_cross > 0 ? p.diffusivity_cross : D_fibre / 4),
         stimulus_centre(stimulus_centre_of(p, g)),
         monodomain(body, relation, monodomain_settings(p)),
@@ -242,10 +246,12 @@ class HeartModel {
   /// Holzapfel-Ogden with the SPHinXsys heart constants (kPa) and active stress.
   static sph::ElasticSolid<3>::Settings solid_settings(const HeartParameters& p) {
     sph::ElasticSolid<3>::Settings s;
-    s.material = sph::holzapfel_ogden_zhang_2021_kpa<3>(Real(p.bulk_modulus));
+    s.material = p.passive_law == PassiveLaw::zhang_2021 ? sph::holzapfel_ogden_zhang_2021_kpa<3>(Real(p.bulk_modulus))
+                                                         : sph::holzapfel_ogden_2009_kpa<3>(Real(p.bulk_modulus));
     s.density = Real(p.density);
     s.damping_rate = Real(p.damping_rate);
     s.active_stress = true;
+    s.active_stiffness = p.tension_model == cardio::TensionModel::land_2017 && p.land_velocity_dependence;
     s.numerics = p.numerics.solid;
     return s;
   }
@@ -528,12 +534,20 @@ class HeartCirculation {
   const cardio::Circulation& circulation() const { return circulation_; }
 
  private:
-  static cardio::CirculationSettings settings(const HeartModel& heart, const HeartParameters& p) {
+ public:
+  /// Throws ParameterError unless the mesh has both endocardia (checked before anything is written).
+  static void require_cavities(const HeartModel& heart) {
     bool lv = false, rv = false;
     for (const auto& c : heart.cavities) lv = lv || c.label == cardio::label_lv_endo, rv = rv || c.label == cardio::label_rv_endo;
     if (!lv || !rv)
       throw sph::ParameterError(std::string("cavity_pressure = circulation needs the LV and the RV endocardium of the mesh; no ") +
-                                (lv ? "RV" : "LV") + " endocardium is labelled, so its volume cannot be computed");
+                                (lv ? "RV" : "LV") + " endocardium is labelled, so its volume cannot be computed "
+                                "(use cavity_pressure = none, constant or ramp)");
+  }
+
+ private:
+  static cardio::CirculationSettings settings(const HeartModel& heart, const HeartParameters& p) {
+    require_cavities(heart);
     cardio::CirculationSettings s = p.circulation;
     s.lv_mode = s.rv_mode = cardio::VentricleMode::coupled;
     s.heart_period = p.cycle_length;
@@ -631,6 +645,19 @@ class HeartScene final : public Scene {
     p_.geometry.dp_from_preset = true;
     p_.geometry.settings.relaxation_steps = 60;
     p_.numerics.discretisation.output_interval = 20;
+    // The beat's solid numerics (docs/electromechanics.md, "A physiological beat"): inertia scaled by
+    // 4 (the beat is slow against the wall's acoustic time), the conservative hourglass control and
+    // the pair viscosity, which damp the particle-scale modes that physiological tension excites.
+    p_.numerics.solid.mass_scaling = 4;
+    p_.numerics.solid.hourglass_control = "energy";
+    p_.numerics.solid.artificial_viscosity = Real(0.25);
+    // The closed loop of Regazzoni et al. 2022 for this heart, whose cavities hold about half the
+    // blood of an adult's (unloaded LV 54 mL): twice their systemic arterial resistance, so that half
+    // their cardiac output meets the same arterial pressure, and a starting state near the beat's
+    // own (venous pressures at the preload instead of their 30 and 24 mmHg).
+    p_.circulation.systemic_arterial.resistance *= 2;
+    p_.circulation.initial_systemic_venous_pressure = 1.6;
+    p_.circulation.initial_pulmonary_venous_pressure = 1.4;
   }
 
   void declare(sph::Parameters& p) override {
@@ -648,7 +675,8 @@ class HeartScene final : public Scene {
                "cell model (Aliev-Panfilov with the Nash-Panfilov parameters in mV and ms, the same in its own units "
                "V = u and t = tau, or ten Tusscher-Panfilov 2006 epicardial)");
     p.add("diffusivity_fibre", p_.diffusivity_fibre, "mm^2/ms",
-          "D along the fibre (0: 1.0 for Aliev-Panfilov, 0.13 for ten Tusscher-Panfilov)", sph::Range::non_negative());
+          "D along the fibre (0: 1.0; for ten Tusscher-Panfilov a fast conduction that stands for the Purkinje network "
+          "and that the 2-3 mm spacing resolves, where the tissue value 0.13 does not propagate)", sph::Range::non_negative());
     p.add("diffusivity_cross", p_.diffusivity_cross, "mm^2/ms", "D across the fibre (0: a quarter of the fibre value)",
           sph::Range::non_negative());
     p.add_enum("stimulus_site", p_.stimulus_site,
@@ -678,8 +706,8 @@ class HeartScene final : public Scene {
                {{"land_2017", cardio::TensionModel::land_2017}, {"nash_panfilov", cardio::TensionModel::nash_panfilov}},
                "active tension: Land et al. 2017 crossbridges driven by the calcium of ten Tusscher-Panfilov and the fibre "
                "stretch, or Nash-Panfilov driven by the potential (k_a, tension_*)");
-    p.add("land_reference_tension", p_.land_reference_tension, "kPa", "T_ref of the Land model (maximal isometric tension; "
-          "Land et al. 2017: 120)", sph::Range::positive());
+    p.add("land_reference_tension", p_.land_reference_tension, "kPa", "T_ref of the Land model, its maximal isometric tension (Land et al. 2017: 120 at the cell; "
+          "400 calibrated for the default heart's ejection, docs/electromechanics.md)", sph::Range::positive());
     p.add("land_velocity_dependence", p_.land_velocity_dependence,
           "the Land model sees the fibre stretch rate (crossbridge distortion); false: the length dependence only");
     p.add("k_a", p_.k_a, "kPa/mV", "active tension per mV above rest (Nash-Panfilov k_a; 0.001 = the 100 Pa per unit of u of the SPHinXsys heart)",
@@ -691,6 +719,10 @@ class HeartScene final : public Scene {
           sph::Range::positive());
     p.add("tension_steepness", p_.tension_rates.steepness, "1/mV", "xi: how sharply eps switches at the threshold",
           sph::Range::positive());
+    p.add_enum("passive_law", p_.passive_law,
+               {{"holzapfel_ogden_2009", PassiveLaw::holzapfel_ogden_2009}, {"zhang_2021", PassiveLaw::zhang_2021}},
+               "Holzapfel-Ogden constants: those of Holzapfel & Ogden 2009 (Phil. Trans. R. Soc. A 367:3445, fitted to "
+               "shear tests of human-like myocardium) or of the SPHinXsys heart case (Zhang et al. 2021), stiffer");
     p.add("density", p_.density, "mg/mm^3", "tissue density", sph::Range::positive());
     p.add("bulk_modulus", p_.bulk_modulus, "kPa", "K of the volumetric penalty (near incompressibility)", sph::Range::positive());
     p.add("damping_rate", p_.damping_rate, "1/ms", "velocity damping c of dv/dt = ... - c v (surrounding tissue and blood)",
@@ -708,7 +740,7 @@ class HeartScene final : public Scene {
     p.add("preload_time", p_.preload_time, "ms",
           "with cavity_pressure = circulation: time before the first stimulus, in which the cavities are inflated to "
           "lv_pressure and rv_pressure (ramped over pressure_ramp_time)", sph::Range::non_negative());
-    cardio::declare_parameters(p, p_.circulation);
+    cardio::declare_parameters(p, p_.circulation, false);
     p.add("sample_interval", p_.sample_interval, "ms", "time between rows of cavities.csv and observers.csv",
           sph::Range::positive());
     declare_solid_numerics(p, p_.numerics, "ms");
@@ -754,6 +786,7 @@ class HeartScene final : public Scene {
             {"kernel", "wendland_c2"},
             {"cell_model", "aliev_panfilov_dimensionless"},
             {"tension_model", "nash_panfilov"},
+            {"passive_law", "zhang_2021"},
             {"cavity_pressure", "none"},
             {"base_condition", "clamp"},
             {"beats", "1"},
@@ -775,6 +808,8 @@ class HeartScene final : public Scene {
             {"clamp_depth", "4"},
             {"acoustic_cfl", "0.6"},
             {"hourglass_coefficient", "0"},
+            {"hourglass_control", "penalty"},
+            {"mass_scaling", "1"},
             {"artificial_viscosity", "0.25"},
             {"tangent_time_step", "false"},
             {"output_interval", "0"}};
@@ -797,6 +832,8 @@ void HeartScene::run(RunContext& ctx) {
 
   // 2. Systems: solid, monodomain, active tension and cavities on one particle set.
   HeartModel heart(p_, g, gs);
+
+  if (p_.cavity_pressure.mode == cardio::CavityPressureMode::circulation) HeartCirculation::require_cavities(heart);
 
   // 3. Coupling: the electromechanical stage and its conduction update (cardio/electromechanics.hpp).
   const double end_time = p_.end_time > 0 ? p_.end_time : beat_origin(p_) + double(p_.beats) * p_.cycle_length;
