@@ -22,9 +22,10 @@
 //   eps(V)  = eps_0 + (eps_inf - eps_0) exp(-exp(-xi (V - V_th))).
 // eps switches from eps_0 (slow relaxation at rest) to eps_inf (fast development) as V rises
 // through V_th over about 1/xi. Units: V [mV], T_a [kPa], k_a [kPa/mV], eps [1/ms].
-// The defaults are those of the SPHinXsys heart case in physical units (Zhang et al. 2021, CMAME
+// The rates default to those of the SPHinXsys heart case in physical units (Zhang et al. 2021, CMAME
 // 381:113847, with V = 100 u - 80 mV and t = 12.9 tau ms of the Aliev-Panfilov scaling): eps_0 =
-// 0.1 and eps_inf = 1 per model time unit, xi = 1 per mV, and k_a = 100 Pa per unit of u.
+// 0.1 and eps_inf = 1 per model time unit, xi = 1 per mV. Its tension constant is 100 k_a V with
+// k_a = 1e-4 in its stress unit g mm^-1 ms^-2 = MPa, i.e. 10 kPa per unit of u or k_a = 0.1 kPa/mV.
 //
 // Time integration: over a step [t, t + dt] the potential is taken at its mean V_m over the step
 // (the value before and after the electrophysiology step), and the linear ODE is solved exactly:
@@ -52,7 +53,7 @@ enum class TensionModel { nash_panfilov, land_2017 };
 struct ActiveTensionSettings {
   TensionModel model = TensionModel::nash_panfilov;
   // Nash-Panfilov.
-  double k_a = 0.001;             ///< [kPa/mV] tension per mV above rest (0.1 kPa per unit of u)
+  double k_a = 0.001;             ///< [kPa/mV] tension per mV above rest
   double rest_potential = -80;    ///< V_r [mV]
   double eps_rest = 0.1 / 12.9;   ///< eps_0 [1/ms]
   double eps_active = 1.0 / 12.9; ///< eps_inf [1/ms]

@@ -240,19 +240,13 @@ int Circulation::add_link(Link link) {
 
 Circulation::Node Circulation::chamber_node(const std::string& name, const std::string& description,
                                             const ElastanceChamberSettings& chamber) {
-  Node n;
-  n.kind = NodeKind::chamber;
-  n.name = name;
-  n.description = description;
+  Node n{NodeKind::chamber, name, description};
   n.chamber = chamber;
   return n;
 }
 
 Circulation::Node Circulation::vessel_node(const std::string& name, const std::string& description, double compliance) {
-  Node n;
-  n.kind = NodeKind::vessel;
-  n.name = name;
-  n.description = description;
+  Node n{NodeKind::vessel, name, description};
   n.compliance = compliance;
   return n;
 }

@@ -123,6 +123,12 @@ struct VesselSettings {
   double inductance = 0;  ///< L [kPa ms^2/mm^3]
 };
 
+/// A vessel from R [mmHg s/mL], C [mL/mmHg] and L [mmHg s^2/mL].
+constexpr VesselSettings vessel_in_clinical_units(double R, double C, double L) {
+  using namespace circulation_units;
+  return {R * mmHg * s / mL, C * mL / mmHg, L * mmHg * s * s / mL};
+}
+
 /// The open-loop load of one ventricle: constant filling pressure, three-element Windkessel.
 struct WindkesselSettings {
   double filling_pressure = 0;          ///< p_fill [kPa] upstream of the inflow valve
@@ -167,22 +173,10 @@ struct CirculationSettings {
   // Closed-loop vessels (reference code defaults), R [mmHg s/mL], C [mL/mmHg], L [mmHg s^2/mL]:
   // systemic arterial 0.8, 1.2, 5e-3; systemic venous 0.26, 60, 5e-4; pulmonary arterial 0.1625,
   // 10, 5e-4; pulmonary venous 0.1625, 16, 5e-4.
-  VesselSettings systemic_arterial{0.8 * circulation_units::mmHg * circulation_units::s / circulation_units::mL,
-                                   1.2 * circulation_units::mL / circulation_units::mmHg,
-                                   5e-3 * circulation_units::mmHg * circulation_units::s * circulation_units::s /
-                                       circulation_units::mL};
-  VesselSettings systemic_venous{0.26 * circulation_units::mmHg * circulation_units::s / circulation_units::mL,
-                                 60 * circulation_units::mL / circulation_units::mmHg,
-                                 5e-4 * circulation_units::mmHg * circulation_units::s * circulation_units::s /
-                                     circulation_units::mL};
-  VesselSettings pulmonary_arterial{0.1625 * circulation_units::mmHg * circulation_units::s / circulation_units::mL,
-                                    10 * circulation_units::mL / circulation_units::mmHg,
-                                    5e-4 * circulation_units::mmHg * circulation_units::s * circulation_units::s /
-                                        circulation_units::mL};
-  VesselSettings pulmonary_venous{0.1625 * circulation_units::mmHg * circulation_units::s / circulation_units::mL,
-                                  16 * circulation_units::mL / circulation_units::mmHg,
-                                  5e-4 * circulation_units::mmHg * circulation_units::s * circulation_units::s /
-                                      circulation_units::mL};
+  VesselSettings systemic_arterial = vessel_in_clinical_units(0.8, 1.2, 5e-3);
+  VesselSettings systemic_venous = vessel_in_clinical_units(0.26, 60, 5e-4);
+  VesselSettings pulmonary_arterial = vessel_in_clinical_units(0.1625, 10, 5e-4);
+  VesselSettings pulmonary_venous = vessel_in_clinical_units(0.1625, 16, 5e-4);
 
   // Windkessel loads of an adult at rest.
   // LV, systemic: R = 1 mmHg s/mL and C = 1.5 mL/mmHg (RC = 1.5 s), the adult orders of magnitude

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "cardio/beat_metrics.hpp"
 #include "cardio/circulation.hpp"
 #include "libsph/io/parameters.hpp"
 
@@ -331,3 +332,34 @@ TEST(Circulation, BadSettingsAreRefusedNamingTheSetting) {
 }
 
 }  // namespace
+
+// The PV measures of one beat (cardio/beat_metrics.hpp) on a synthetic rectangular loop sampled
+// every 0.1 ms: filling 120 -> 150 mL at 1 kPa, isovolumic rise to 15 kPa over 50 ms, ejection to
+// 60 mL at 15 kPa, isovolumic fall over 70 ms. dP/dt over the 2 ms window is the ramps' slope.
+TEST(Circulation, BeatMeasuresOfARectangularLoop) {
+  cardio::BeatRecorder beat;
+  double t = 0;
+  auto segment = [&](double duration, double v0, double v1, double p0, double p1) {
+    const int n = int(std::lround(duration / 0.1));
+    for (int k = 1; k <= n; ++k) {
+      const double f = double(k) / n;
+      t += 0.1;
+      beat.add(t, v0 + f * (v1 - v0), p0 + f * (p1 - p0));
+    }
+  };
+  beat.add(0, 120 * mL, 1);
+  segment(300, 120 * mL, 150 * mL, 1, 1);
+  segment(50, 150 * mL, 150 * mL, 1, 15);
+  segment(250, 150 * mL, 60 * mL, 15, 15);
+  segment(70, 60 * mL, 60 * mL, 15, 1);
+  const auto m = beat.finish();
+  std::printf("[ Beat     ] EDV %.1f mL, ESV %.1f mL, EF %.4f, EDP %.2f kPa, peak %.2f kPa, dP/dt %.4f / %.4f kPa/ms\n",
+              m.edv / mL, m.esv / mL, m.ejection_fraction, m.edp, m.peak_pressure, m.dpdt_max, m.dpdt_min);
+  EXPECT_DOUBLE_EQ(m.edv, 150 * mL);
+  EXPECT_DOUBLE_EQ(m.esv, 60 * mL);
+  EXPECT_NEAR(m.ejection_fraction, 0.6, 1e-12);
+  EXPECT_NEAR(m.edp, 1, 1e-12);
+  EXPECT_NEAR(m.peak_pressure, 15, 1e-12);
+  EXPECT_NEAR(m.dpdt_max, 14.0 / 50, 1e-9);
+  EXPECT_NEAR(m.dpdt_min, -14.0 / 70, 1e-9);
+}

@@ -1,17 +1,20 @@
-// `cardiosph heart`: excitation-contraction of a ventricular mesh on one particle set.
+// `cardiosph heart`: excitation-contraction of a ventricular mesh on one particle set, beating
+// against a circulation.
 //
-// Geometry: the cached heart-geometry stage (particles, surface labels, LDRB fibres). Physics:
-// monodomain with Aliev-Panfilov (physical units, Nash-Panfilov parameters) or ten Tusscher-
-// Panfilov 2006 cells, conduction D_l along the fibre and D_t across, pulled back through F
-// (cardio/electromechanics.hpp); Nash-Panfilov active tension (cardio/active_tension.hpp);
-// Holzapfel-Ogden passive law with the constants of the SPHinXsys heart case (Zhang et al. 2021,
-// CMAME 381:113847) plus the active stress T_a f0 (x) f0; base fixed. Cavity volumes from the
-// labelled endocardia moved with the tissue (cardio/cavity.hpp), optional cavity pressure
-// (constant, ramped, or a two-element Windkessel).
+// Geometry: the cached heart-geometry stage (particles, surface labels, LDRB fibres). Physics
+// (docs/electromechanics.md, "A physiological beat"): monodomain with ten Tusscher-Panfilov 2006
+// (or Aliev-Panfilov) cells, conduction D_l along the fibre and D_t across, pulled back through F
+// (cardio/electromechanics.hpp); Land et al. 2017 tension from the cells' calcium and the fibre
+// stretch (or Nash-Panfilov from the potential; cardio/active_tension.hpp); Holzapfel-Ogden
+// passive law plus the active stress T_a f0 (x) f0; pericardial and base springs (or a clamped
+// base). Cavity volumes from the labelled endocardia moved with the tissue (cardio/cavity.hpp);
+// the cavity pressure from the 0D circulation (cardio/circulation.hpp: closed loop or Windkessel,
+// after a preload) or constant, ramped or none. The run ends when the stroke volumes settle.
 //
 // Outputs: heart_*.vtu / heart.pvd (potential, activation time, T_a, displacement, J, fibre stretch,
 // von Mises stress, labels, fibres), cavities.csv (volumes, pressures, energies, J range, peak T_a),
-// observers.csv (potential, T_a and displacement at three particles), report.json.
+// observers.csv (potential, T_a and displacement at three particles), circulation.csv and
+// pv_loop.png (with the circulation), report.json (per-beat PV measures, healthy ranges, timings).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -502,10 +505,10 @@ class HeartCirculation {
       r.results[name + "_dpdt_max_kPa_per_ms"] = last[v].dpdt_max;
       r.results[name + "_dpdt_min_kPa_per_ms"] = last[v].dpdt_min;
     }
-    // Healthy adult ranges: LV EF 55-65 % and LV end-diastolic pressure 1-1.6 kPa (8-12 mmHg)
-    // (Lang et al. 2015, J. Am. Soc. Echocardiogr. 28:1, for the EF; Klabunde, Cardiovascular
-    // Physiology Concepts, for the pressures), LV peak systolic 15-17 kPa (110-130 mmHg), RV peak
-    // systolic 3-4 kPa (about 22-30 mmHg).
+    // Healthy adult targets: LV EF 55-65 % (inside the normal 52-74 % of Lang et al. 2015,
+    // J. Am. Soc. Echocardiogr. 28:1), LV peak systolic pressure 15-17 kPa (110-130 mmHg), LV
+    // end-diastolic pressure 1-1.6 kPa (8-12 mmHg) and RV peak systolic pressure 3-4 kPa (22-30
+    // mmHg), the textbook values of a resting adult.
     nlohmann::json ranges = nlohmann::json::array();
     auto range = [&](const char* what, double value, double low, double high) {
       ranges.push_back({{"quantity", what}, {"value", value}, {"low", low}, {"high", high}, {"inside", value >= low && value <= high}});
@@ -710,7 +713,7 @@ class HeartScene final : public Scene {
           "400 calibrated for the default heart's ejection, docs/electromechanics.md)", sph::Range::positive());
     p.add("land_velocity_dependence", p_.land_velocity_dependence,
           "the Land model sees the fibre stretch rate (crossbridge distortion); false: the length dependence only");
-    p.add("k_a", p_.k_a, "kPa/mV", "active tension per mV above rest (Nash-Panfilov k_a; 0.001 = the 100 Pa per unit of u of the SPHinXsys heart)",
+    p.add("k_a", p_.k_a, "kPa/mV", "active tension per mV above rest (Nash-Panfilov k_a; the SPHinXsys heart: 0.1, i.e. 10 kPa per unit of u)",
           sph::Range::non_negative());
     p.add("tension_threshold", p_.tension_threshold, "mV", "V_th - V_r of the activation function eps(V)", sph::Range::any());
     p.add("tension_allow_negative", p_.tension_allow_negative, "let the active tension fall below zero");
