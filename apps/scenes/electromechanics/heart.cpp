@@ -459,6 +459,8 @@ class HeartCirculation {
  public:
   HeartCirculation(HeartModel& heart, sph::TimeStepper& stepper, sph::RunHarness& run, const HeartParameters& p, bool quiet)
       : heart_(heart), p_(p), origin_(beat_origin(p)), quiet_(quiet), circulation_(settings(heart, p)) {
+    for (std::size_t c = 0; c < heart_.cavities.size(); ++c)
+      (heart_.cavities[c].label == cardio::label_lv_endo ? lv_ : rv_) = c;
     if (origin_ == 0) start();
     else  // a step ends where the circulation starts
       stepper.add_event("end of preload", {stepper.end_time(), true, true, false, Real(origin_)}, [](const sph::StepInfo&) {});
@@ -566,8 +568,6 @@ class HeartCirculation {
   }
   std::array<double, 2> volumes() const { return {heart_.cavity_volume(lv_), heart_.cavity_volume(rv_)}; }
   void start() {
-    for (std::size_t c = 0; c < heart_.cavities.size(); ++c)
-      (heart_.cavities[c].label == cardio::label_lv_endo ? lv_ : rv_) = c;
     const auto v = volumes();
     circulation_.initialise(0, v[0], v[1], heart_.pressures[lv_].at(origin_), heart_.pressures[rv_].at(origin_));
     initial_blood_ = circulation_.total_blood_volume();
@@ -589,7 +589,12 @@ class HeartCirculation {
       for (std::size_t c = 0; c < heart_.cavities.size(); ++c)
         heart_.pressures[c].set(rise * (heart_.cavities[c].label == cardio::label_lv_endo ? p_.cavity_pressure.lv_pressure
                                                                                           : p_.cavity_pressure.rv_pressure));
-      if (t >= origin_ - tolerance) start();
+      if (t >= origin_ - tolerance) {
+        start();
+      } else {  // the circulation follows the cavities at the preload pressures (circulation.csv)
+        const auto v = volumes();
+        circulation_.initialise(0, v[0], v[1], heart_.pressures[lv_].at(t), heart_.pressures[rv_].at(t));
+      }
       return;
     }
     const auto v = volumes();
