@@ -90,7 +90,7 @@ std::vector<CavitySurface> cavity_surfaces(const geometry::TriangleMesh& mesh, s
                                            std::span<const sph::Vec<3>> positions,
                                            std::span<const Real> volumes, std::span<const std::int8_t> labels,
                                            Real spacing, const sph::AnyKernel<3>& kernel, Real smoothing_length,
-                                           std::span<const SurfaceLabel> wanted) {
+                                           std::span<const SurfaceLabel> kept_labels) {
   const std::size_t n = positions.size();
   if (labels.size() != n || volumes.size() != n) throw std::invalid_argument("cavity surfaces: one label and volume per particle");
   if (!face_labels.empty() && face_labels.size() != mesh.n_faces())
@@ -132,7 +132,7 @@ std::vector<CavitySurface> cavity_surfaces(const geometry::TriangleMesh& mesh, s
   const Real support = std::visit([](const auto& k) { return k.support_radius(Real(1)); }, kernel) * smoothing_length;
   const sph::CellLinkedList<3> all_cells(positions, support);
   std::vector<CavitySurface> surfaces;
-  for (const SurfaceLabel label : wanted) {
+  for (const SurfaceLabel label : kept_labels) {
     CavitySurface s;
     s.label = label;
     std::map<std::uint32_t, std::uint32_t> vertex_of;  // mesh vertex -> surface vertex

@@ -89,6 +89,6 @@ std::vector<CavitySurface> cavity_surfaces(const geometry::TriangleMesh& mesh, s
                                            std::span<const sph::Vec<3>> positions,
                                            std::span<const Real> volumes, std::span<const std::int8_t> labels,
                                            Real spacing, const sph::AnyKernel<3>& kernel, Real smoothing_length,
-                                           std::span<const SurfaceLabel> wanted = cavity_labels);
+                                           std::span<const SurfaceLabel> kept_labels = cavity_labels);
 
 }  // namespace cardio
