@@ -116,6 +116,13 @@ struct ElastanceChamberSettings {
   double elastance(double t, double period) const { return passive_elastance + active_elastance * activation(t, period); }
 };
 
+/// A chamber from E_pass, E_act [mmHg/mL], V0 [mL] and its timings [ms].
+constexpr ElastanceChamberSettings chamber_in_clinical_units(double E_pass, double E_act, double V0, double onset,
+                                                            double contraction, double relaxation) {
+  using namespace circulation_units;
+  return {E_pass * mmHg / mL, E_act * mmHg / mL, V0 * mL, onset, contraction, relaxation};
+}
+
 /// One R-L-C vessel compartment of the closed loop.
 struct VesselSettings {
   double resistance = 0;  ///< R [kPa ms/mm^3]
@@ -157,18 +164,10 @@ struct CirculationSettings {
   double valve_closed_resistance = 1e4;     ///< [kPa ms/mm^3] every valve, closed
 
   // Chambers (reference code defaults; timings as fractions 0.17, 0.34, 0.80 of T_HB = 800 ms).
-  ElastanceChamberSettings la{0.09 * circulation_units::mmHg / circulation_units::mL,
-                              0.07 * circulation_units::mmHg / circulation_units::mL, 4 * circulation_units::mL,
-                              640, 136, 136};
-  ElastanceChamberSettings lv{0.08 * circulation_units::mmHg / circulation_units::mL,
-                              2.75 * circulation_units::mmHg / circulation_units::mL, 5 * circulation_units::mL,
-                              0, 272, 136};
-  ElastanceChamberSettings ra{0.07 * circulation_units::mmHg / circulation_units::mL,
-                              0.06 * circulation_units::mmHg / circulation_units::mL, 4 * circulation_units::mL,
-                              640, 136, 136};
-  ElastanceChamberSettings rv{0.05 * circulation_units::mmHg / circulation_units::mL,
-                              0.55 * circulation_units::mmHg / circulation_units::mL, 10 * circulation_units::mL,
-                              0, 272, 136};
+  ElastanceChamberSettings la = chamber_in_clinical_units(0.09, 0.07, 4, 640, 136, 136);
+  ElastanceChamberSettings lv = chamber_in_clinical_units(0.08, 2.75, 5, 0, 272, 136);
+  ElastanceChamberSettings ra = chamber_in_clinical_units(0.07, 0.06, 4, 640, 136, 136);
+  ElastanceChamberSettings rv = chamber_in_clinical_units(0.05, 0.55, 10, 0, 272, 136);
 
   // Closed-loop vessels (reference code defaults), R [mmHg s/mL], C [mL/mmHg], L [mmHg s^2/mL]:
   // systemic arterial 0.8, 1.2, 5e-3; systemic venous 0.26, 60, 5e-4; pulmonary arterial 0.1625,

@@ -530,7 +530,7 @@ class HeartCirculation {
       return int(it - columns.begin()) + 1;  // 1-based; the run's time replaces the circulation's
     };
     CsvPlot pv{"circulation.csv", "pv_loop.png", "pressure-volume loops", "cavity volume [mm^3]", "cavity pressure [kPa]",
-                  {{column("v3d_lv"), column("p_lv"), "LV"}, {column("v3d_rv"), column("p_rv"), "RV"}}};
+                  {{column("v3d_lv"), column("p_lv"), "LV", ""}, {column("v3d_rv"), column("p_rv"), "RV", ""}}};
     pv.logarithmic = false;
     pv.style = "lines";
     plot_csv(folder, pv);
