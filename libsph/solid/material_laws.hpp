@@ -109,9 +109,10 @@ struct HolzapfelOgden {
     const Real I4f = fibre_strain(f.dot(C * f) - 1), I4s = fibre_strain(s.dot(C * s) - 1), I8 = f.dot(C * s);
     Mat<Dim> S = a * std::exp(b * (C.trace() - Dim)) * Mat<Dim>::Identity() +
                  (volumetric_stress_factor(bulk_modulus, J) - a) * C_inverse;
-    S += 2 * a_f * I4f * std::exp(b_f * I4f * I4f) * (f * f.transpose());
-    S += 2 * a_s * I4s * std::exp(b_s * I4s * I4s) * (s * s.transpose());
-    S += a_fs * I8 * std::exp(b_fs * I8 * I8) * symmetric_dyad<Dim>(f, s);
+    // A term with a zero coefficient is left out (not 0 x exp(...), which is NaN once exp overflows).
+    if (a_f != 0) S += 2 * a_f * I4f * std::exp(b_f * I4f * I4f) * (f * f.transpose());
+    if (a_s != 0) S += 2 * a_s * I4s * std::exp(b_s * I4s * I4s) * (s * s.transpose());
+    if (a_fs != 0) S += a_fs * I8 * std::exp(b_fs * I8 * I8) * symmetric_dyad<Dim>(f, s);
     return S;
   }
   Real energy(const Mat<Dim>& F, const Vec<Dim>& f, const Vec<Dim>& s) const {
