@@ -61,10 +61,10 @@ struct HeartParameters {
   double stimulus_strength = 50, stimulus_duration = 2, stimulus_radius = 5;
   /// stimulus_site = endocardium: speed [mm/ms] of the Purkinje surrogate that paces each endocardial
   /// particle at its distance from the LV apex over this speed: an effective speed, calibrated so that
-  /// the ventricles activate in 60-80 ms (Durrer et al. 1970), below the 2-4 m/s of Purkinje fibres
+  /// the coarse heart activates in 60-80 ms (Durrer et al. 1970), below the 2-4 m/s of Purkinje fibres
   /// because the straight distance is shorter than the paths of the network.
   double purkinje_velocity = 1.1;
-  StimulusSite stimulus_site = StimulusSite::endocardium;
+  StimulusSite stimulus_site = StimulusSite::lv_apex;
   Eigen::Vector3d stimulus_point = Eigen::Vector3d::Zero();
   Eigen::Vector3d stimulus_box_min = Eigen::Vector3d::Zero(), stimulus_box_max = Eigen::Vector3d::Zero();
   long beats = 6;              ///< at most; fewer once the stroke volumes agree within beat_tolerance
@@ -79,16 +79,16 @@ struct HeartParameters {
   cardio::ElectromechanicsSettings coupling;
   // Active tension.
   cardio::TensionModel tension_model = cardio::TensionModel::land_2017;
-  double land_reference_tension = 600;  ///< T_ref [kPa] (calibrated, docs/electromechanics.md)
+  double land_reference_tension = 400;  ///< T_ref [kPa] (calibrated, docs/electromechanics.md)
   bool land_velocity_dependence = true;
   double k_a = 0.01;
   double tension_threshold = 1;  ///< V_th - V_r [mV]
   bool tension_allow_negative = false;
   cardio::ActiveTensionSettings tension_rates;  ///< eps_0, eps_inf and xi (k_a and V_th are set above)
   // Mechanics.
-  /// Transversely isotropic: the LDRB sheet lies across the wall, where the sheet term of the full law
-  /// stiffens the transmural stretch of systolic wall thickening (docs/electromechanics.md).
-  PassiveLaw passive_law = PassiveLaw::holzapfel_ogden_2009_transverse;
+  /// The full law: without its sheet terms (holzapfel_ogden_2009_transverse) the wall thickens and
+  /// ejects more, but the two-particle RV wall of the default resolution inverted (docs/electromechanics.md).
+  PassiveLaw passive_law = PassiveLaw::holzapfel_ogden_2009;
   double density = 1.06;
   /// Near incompressibility under tensions of tens of kPa: |J - 1| of a few per cent (at 100 kPa,
   /// the value of the potential-driven heart, the Land tension compresses the wall by 20 %).
@@ -700,17 +700,11 @@ class HeartScene final : public Scene {
     p_.numerics.solid.mass_scaling = 4;
     p_.numerics.solid.hourglass_control = "energy";
     p_.numerics.solid.artificial_viscosity = Real(0.25);
-    // A CFL of 0.45 (0.6 elsewhere): at 0.6 the default heart inverted near the base 87 ms after the
-    // stimulus, at 0.5 and 0.45 it ran, so the tangent estimate of the step misses part of the
-    // stiffness that the beat's tension and loads add.
-    p_.numerics.solid.cfl = Real(0.45);
     // The closed loop of Regazzoni et al. 2022 for this heart, whose cavities hold about half the
-    // blood of an adult's (unloaded LV 54 mL): their systemic arterial impedance doubled (twice the
-    // resistance, half the compliance, the same time constant RC), so that half their stroke volume
-    // meets the same arterial pressures, and a starting state near the beat's own (venous pressures
-    // at the preload instead of their 30 and 24 mmHg).
+    // blood of an adult's (unloaded LV 54 mL): twice their systemic arterial resistance, so that half
+    // their cardiac output meets the same arterial pressure, and a starting state near the beat's
+    // own (venous pressures at the preload instead of their 30 and 24 mmHg).
     p_.circulation.systemic_arterial.resistance *= 2;
-    p_.circulation.systemic_arterial.compliance /= 2;
     p_.circulation.initial_systemic_venous_pressure = 1.6;
     p_.circulation.initial_pulmonary_venous_pressure = 1.4;
   }
@@ -769,7 +763,7 @@ class HeartScene final : public Scene {
                "active tension: Land et al. 2017 crossbridges driven by the calcium of ten Tusscher-Panfilov and the fibre "
                "stretch, or Nash-Panfilov driven by the potential (k_a, tension_*)");
     p.add("land_reference_tension", p_.land_reference_tension, "kPa", "T_ref of the Land model, its maximal isometric tension (Land et al. 2017: 120 at the cell; "
-          "600 calibrated for the default heart's ejection, docs/electromechanics.md)", sph::Range::positive());
+          "400 calibrated for the default heart's ejection, docs/electromechanics.md)", sph::Range::positive());
     p.add("land_velocity_dependence", p_.land_velocity_dependence,
           "the Land model sees the fibre stretch rate (crossbridge distortion); false: the length dependence only");
     p.add("k_a", p_.k_a, "kPa/mV", "active tension per mV above rest (Nash-Panfilov k_a; the SPHinXsys heart: 0.1, i.e. 10 kPa per unit of u)",
@@ -787,7 +781,8 @@ class HeartScene final : public Scene {
                 {"zhang_2021", PassiveLaw::zhang_2021}},
                "Holzapfel-Ogden constants: those of Holzapfel & Ogden 2009 (Phil. Trans. R. Soc. A 367:3445, fitted to "
                "shear tests of human-like myocardium), the same without the sheet and fibre-sheet terms (transversely "
-               "isotropic; the sheet term stiffens the transmural stretch of a thickening wall, docs/electromechanics.md), "
+               "isotropic: the wall thickens and ejects more, but the two-particle RV wall at dp 2 mm inverts; "
+               "docs/electromechanics.md), "
                "or those of the SPHinXsys heart case (Zhang et al. 2021), stiffer");
     p.add("density", p_.density, "mg/mm^3", "tissue density", sph::Range::positive());
     p.add("bulk_modulus", p_.bulk_modulus, "kPa", "K of the volumetric penalty (near incompressibility)", sph::Range::positive());
