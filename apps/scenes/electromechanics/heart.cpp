@@ -255,7 +255,7 @@ class HeartModel {
     for (std::size_t i = 0; i < body.n_particles(); ++i) label[i] = g.labels[i];
     return body;
   }
-  /// Holzapfel-Ogden with the SPHinXsys heart constants (kPa) and active stress.
+  /// Holzapfel-Ogden (passive_law; kPa) with active stress.
   static sph::ElasticSolid<3>::Settings solid_settings(const HeartParameters& p) {
     sph::ElasticSolid<3>::Settings s;
     auto law = p.passive_law == PassiveLaw::zhang_2021 ? sph::holzapfel_ogden_zhang_2021_kpa<3>(Real(p.bulk_modulus))
@@ -318,10 +318,10 @@ class HeartModel {
   }
   /// A Purkinje surrogate: every LV and RV endocardial particle is paced at t_i = d_i / v_P after the
   /// beat's origin, with d_i its distance from the LV apex and v_P = purkinje_velocity. The network
-  /// that spreads the beat over the endocardium within 20-30 ms in the human heart (Durrer et al.
-  /// 1970, Circulation 41:899: the ventricles activate in 60-80 ms from a few endocardial sites) is
-  /// not resolved; the tissue conducts from the endocardium outwards. The pulses of particles whose
-  /// onsets fall in the same splitting step share one stimulus region.
+  /// that spreads the beat over the endocardium (Durrer et al. 1970, Circulation 41:899: the human
+  /// ventricles activate in 60-80 ms from a few endocardial sites) is not resolved; the tissue
+  /// conducts from the endocardium outwards. The pulses of particles whose onsets fall in the same
+  /// splitting step share one stimulus region.
   void endocardial_stimuli(const HeartParameters& p, cardio::Monodomain<3>::Settings& ep) {
     const double bin = double(p.monodomain.time_step);
     std::map<long, cardio::Monodomain<3>::StimulusRegion> regions;
