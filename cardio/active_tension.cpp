@@ -49,7 +49,10 @@ void ActiveTension<Dim>::advance(Real time, Real dt) {
       const double calcium = s.calcium_scale * 0.5 * (double(synced_driver_[i]) + double(y[i]));
       const double lambda = stretch_[i], change = double(stretch_[i]) - double(previous_stretch_[i]);
       // Where the last step ended: the tension the solid applied there (see the header).
-      if (stiff) start_[i] = static_cast<Real>(double(start_[i]) + double(stiffness_[i]) * change);
+      if (stiff) {
+        const double applied = double(start_[i]) + double(stiffness_[i]) * change;
+        start_[i] = static_cast<Real>(s.allow_negative ? applied : std::max(applied, 0.0));
+      }
       land_.step(states_[i], calcium, lambda, s.velocity_dependence ? change / double(dt) : 0.0, double(dt));
       const auto& z = states_[i];
       double T = land_.tension(z, lambda);

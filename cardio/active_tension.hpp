@@ -14,7 +14,9 @@
 //   lambda_0 it was computed at (stiffness(), reference_stretch()), and the solid applies
 //   T_a + k (lambda - lambda_0) at every sub-step (ElasticSolid::Settings::active_stiffness); the
 //   next step starts from that value, T_a + k (lambda - lambda_0) at the step's end, so the tension
-//   is continuous, and the model's states take up the stretch change through dlambda/dt.
+//   is continuous, and the model's states take up the stretch change through dlambda/dt. Unless
+//   allow_negative, that sum too is kept >= 0, in the solid and where the next step starts
+//   (ElasticSolid::Settings::active_tension_non_negative).
 // - nash_panfilov: phenomenological tension driven by the transmembrane potential (Nash & Panfilov 2004,
 // Prog. Biophys. Mol. Biol. 85:501, eq. 4), with the smooth activation function of Wong et al. 2011
 // (CMAME 200:3139):

@@ -109,6 +109,40 @@ TEST(ActiveStress, CauchyStressOfTheUndeformedBodyIsTheTensionAlongTheFibre) {
   EXPECT_THROW(sph::ElasticSolid<3>(body, relation, isotropic), std::invalid_argument);
 }
 
+// With the crossbridge stiffness the solid applies T_a + k (lambda - lambda_0); a tension that may not
+// fall below zero keeps that sum >= 0 too (ElasticSolid::Settings::active_tension_non_negative).
+// At F = I (lambda = 1) the force on the block is that of the applied tension alone, so the net
+// residual scales with it: 7 + 1000 (1 - 1.1) = -93 kPa pushes, 93/7 times the force of T_a = 7,
+// unless the sum is kept at zero, where no force is left.
+TEST(ActiveStress, StretchStiffnessDoesNotMakeANonNegativeTensionPush) {
+  const Real dp = Real(0.1);
+  auto body = geometry::lattice_box<3>("block", Vec3::Zero(), Vec3(1, 1, 1), dp);
+  const auto kernel = sph::make_kernel<3>("wendland_c4");
+  const auto relation = sph::build_inner_relation<3>(body.position, kernel, Real(1.3) * dp);
+  auto net_force = [&](bool non_negative, Real lambda_0) {
+    sph::ElasticSolid<3>::Settings settings;
+    settings.material = sph::holzapfel_ogden_2009_kpa<3>(100);
+    settings.fiber = Vec3(1, 1, 0).normalized();
+    settings.sheet = Vec3(-1, 1, 0).normalized();
+    settings.active_stress = true;
+    settings.active_stiffness = true;
+    settings.active_tension_non_negative = non_negative;
+    sph::ElasticSolid<3> solid(body, relation, settings);
+    auto T = body.field(solid.active_tension_field());
+    auto k = body.field(solid.active_stiffness_field());
+    auto l0 = body.field(solid.active_reference_stretch_field());
+    std::fill(T.begin(), T.end(), Real(7));
+    std::fill(k.begin(), k.end(), Real(1000));
+    std::fill(l0.begin(), l0.end(), lambda_0);
+    return solid.equilibrium_residual(0).net;
+  };
+  const double pulling = net_force(true, 1), pushing = net_force(false, Real(1.1)), kept = net_force(true, Real(1.1));
+  std::cout << "net force: T = 7 " << pulling << ", T = -93 " << pushing << ", kept at 0 " << kept << "\n";
+  EXPECT_GT(pulling, 0);
+  EXPECT_NEAR(pushing, 93.0 / 7.0 * pulling, 1e-6 * pushing);
+  EXPECT_LT(kept, 1e-9 * pulling);
+}
+
 TEST(CavitySurfaces, LvEllipsoidCavityVolumeMatchesTheClosedFormAndFollowsAffineMotion) {
   cardio::HeartGeometrySettings gs;
   gs.mesh = std::filesystem::path(CARDIOSPH_SOURCE_DIR) / "meshes" / "lv_ellipsoid.stl";

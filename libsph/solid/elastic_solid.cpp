@@ -482,6 +482,7 @@ std::size_t ElasticSolid<Dim>::deformation_and_stress() {
         const std::span<const Real> L0 = active_reference_stretch_.valid()
                                              ? std::span<const Real>(particles_.field(active_reference_stretch_))
                                              : std::span<const Real>();
+        const bool non_negative = settings_.active_tension_non_negative;
         return first_index_where(n, [&](std::size_t i) {
           const Mat<Dim> Fi = deformation_gradient_of(i, x, V, B);
           F[i] = Fi;
@@ -495,7 +496,11 @@ std::size_t ElasticSolid<Dim>::deformation_and_stress() {
             if constexpr (Law::anisotropic) {
               Mat<Dim> S = law.second_piola(Fg, f[i], s[i]);
               if (!T.empty()) {
-                const Real tension = K.empty() ? T[i] : T[i] + K[i] * ((Fg * f[i]).norm() - L0[i]);
+                Real tension = T[i];
+                if (!K.empty()) {
+                  tension += K[i] * ((Fg * f[i]).norm() - L0[i]);
+                  if (non_negative) tension = std::max(tension, Real(0));
+                }
                 S.noalias() += tension * (f[i] * f[i].transpose());
               }
               return Fg * S;

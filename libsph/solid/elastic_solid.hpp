@@ -54,7 +54,11 @@
 //   T = T_a + k_a (lambda - lambda_0),   lambda = |F f0|,
 // with k_a and lambda_0 per particle (fields "active_stiffness", "active_reference_stretch", set by
 // the caller): the instantaneous stiffness of attached crossbridges (cardio/active_tension.hpp),
-// evaluated at every sub-step so that it needs no lag; k_a enters the tangent time step.
+// evaluated at every sub-step so that it needs no lag; k_a enters the tangent time step. With
+// Settings::active_tension_non_negative the sum is kept >= 0: a tension model whose own T_a may not
+// fall below zero (crossbridges pull, they do not push) would otherwise be driven below it by the
+// linear term under fast shortening, and a compressive fibre stress with the small cross-fibre
+// stiffness of the myocardium buckles the particle arrangement (docs/electromechanics.md).
 //
 // Fields it registers (written to output unless noted): velocity, displacement, jacobian (J),
 // von_mises_stress, and for the anisotropic laws fiber_direction, sheet_direction and fiber_stretch;
@@ -123,6 +127,9 @@ class ElasticSolid {
     bool active_stress = false;              ///< add T_a f0 (x) f0 to S (anisotropic laws only)
     /// With active_stress: T_a + k_a (lambda - lambda_0) in place of T_a, lambda = |F f0| (see above).
     bool active_stiffness = false;
+    /// With active_stiffness: max(0, T_a + k_a (lambda - lambda_0)), a tension that does not push
+    /// (see above).
+    bool active_tension_non_negative = false;
   };
 
   using Motion = std::function<Vec<Dim>(const Vec<Dim>& reference, Real time)>;
