@@ -88,7 +88,7 @@ std::vector<std::string> potential_driven(std::vector<std::string> more) {
   std::vector<std::string> a{"cell_model=aliev_panfilov", "tension_model=nash_panfilov", "cavity_pressure=none",
                              "base_condition=clamp",      "passive_law=zhang_2021",      "bulk_modulus=100",
                              "mass_scaling=1",            "hourglass_control=penalty",   "artificial_viscosity=0",
-                             "stimulus_site=lv-apex"};
+                             "stimulus_site=lv-apex",     "acoustic_cfl=0.6"};
   a.insert(a.end(), more.begin(), more.end());
   return a;
 }
@@ -152,12 +152,15 @@ TEST(ElectromechanicsValidation, CoarseBeatEjectsWithIsovolumicPhasesAndConserve
             << at(r, "rv_peak_pressure_kPa") << " kPa; isovolumic volume change " << isovolumic << " mm^3; blood volume drift "
             << drift << "; J in [" << at(r, "min_jacobian") << ", " << at(r, "max_jacobian") << "], " << r.wall_time_s << " s\n";
   EXPECT_EQ(r.status, "completed");
-  // Bounds: the first beat of the coarse heart ejects 0.35-0.50 of its EDV (measured 0.42; the
-  // default resolution's converged beat is in README), the LV pressure opens the aortic valve
-  // (above the starting arterial 10.7 kPa), the RV ejects.
-  EXPECT_GT(ef, 0.35);
-  EXPECT_LT(ef, 0.50);
-  EXPECT_GT(at(r, "lv_peak_pressure_kPa"), 10.7);
+  // Bounds: the first beat of the coarse heart ejects within the healthy 55-65 % of its EDV
+  // (measured 62.2 %; the default resolution's converged beat, 62.3 %, is in README); its LV peak
+  // reaches the healthy 15 kPa and stays below 19.5 kPa (measured 18.25: a first beat is stronger
+  // than the converged one, 18.1 against 16.5 kPa at dp 2 mm, while the circulation settles from
+  // its starting pressures); the RV ejects.
+  EXPECT_GT(ef, 0.55);
+  EXPECT_LT(ef, 0.65);
+  EXPECT_GT(at(r, "lv_peak_pressure_kPa"), 15.0);
+  EXPECT_LT(at(r, "lv_peak_pressure_kPa"), 19.5);
   EXPECT_GT(at(r, "rv_ejection_fraction"), 0.2);
   // Isovolumic phases: while both valves of a ventricle are closed its volume moves by less than
   // 1 % of the LV EDV (C_c = 20 mm^3/kPa times the pressure change, about 0.25 mL here).
@@ -203,7 +206,7 @@ TEST(ElectromechanicsValidation, WindkesselLoadedHeartEjectsAgainstARisingPressu
 // stops with the numerical-failure diagnostic, never with NaN results.
 TEST(ElectromechanicsValidation, StiffAndExtremeHeartEitherCompletesOrStopsWithADiagnostic) {
   const std::vector<std::vector<std::string>> cases{
-      {"preset=coarse", "land_reference_tension=4000", "end_time=350", "output_interval=0"},
+      {"preset=coarse", "land_reference_tension=6000", "end_time=350", "output_interval=0"},
       {"preset=coarse", "bulk_modulus=10000", "end_time=250", "output_interval=0"},
       {"preset=coarse", "circulation_initial_systemic_arterial_pressure=150", "circulation_initial_pulmonary_arterial_pressure=60",
        "end_time=600", "output_interval=0"},

@@ -64,7 +64,7 @@ struct HeartParameters {
   /// the coarse heart activates in 60-80 ms (Durrer et al. 1970), below the 2-4 m/s of Purkinje fibres
   /// because the straight distance is shorter than the paths of the network.
   double purkinje_velocity = 1.1;
-  StimulusSite stimulus_site = StimulusSite::lv_apex;
+  StimulusSite stimulus_site = StimulusSite::endocardium;
   Eigen::Vector3d stimulus_point = Eigen::Vector3d::Zero();
   Eigen::Vector3d stimulus_box_min = Eigen::Vector3d::Zero(), stimulus_box_max = Eigen::Vector3d::Zero();
   long beats = 6;              ///< at most; fewer once the stroke volumes agree within beat_tolerance
@@ -79,16 +79,16 @@ struct HeartParameters {
   cardio::ElectromechanicsSettings coupling;
   // Active tension.
   cardio::TensionModel tension_model = cardio::TensionModel::land_2017;
-  double land_reference_tension = 400;  ///< T_ref [kPa] (calibrated, docs/electromechanics.md)
+  double land_reference_tension = 600;  ///< T_ref [kPa] (calibrated, docs/electromechanics.md)
   bool land_velocity_dependence = true;
   double k_a = 0.01;
   double tension_threshold = 1;  ///< V_th - V_r [mV]
   bool tension_allow_negative = false;
   cardio::ActiveTensionSettings tension_rates;  ///< eps_0, eps_inf and xi (k_a and V_th are set above)
   // Mechanics.
-  /// The full law: without its sheet terms (holzapfel_ogden_2009_transverse) the wall thickens and
-  /// ejects more, but the two-particle RV wall of the default resolution inverted (docs/electromechanics.md).
-  PassiveLaw passive_law = PassiveLaw::holzapfel_ogden_2009;
+  /// Without the sheet terms of the full law, which resist the transmural stretch of a thickening
+  /// wall (docs/electromechanics.md, "Solid numerics of the beat").
+  PassiveLaw passive_law = PassiveLaw::holzapfel_ogden_2009_transverse;
   double density = 1.06;
   /// Near incompressibility under tensions of tens of kPa: |J - 1| of a few per cent (at 100 kPa,
   /// the value of the potential-driven heart, the Land tension compresses the wall by 20 %).
@@ -97,7 +97,7 @@ struct HeartParameters {
   double clamp_depth = 0;  ///< 0: the particles labelled base; > 0: every particle this close to the base plane
   BaseCondition base_condition = BaseCondition::springs;
   double pericardium_stiffness = 0.2;  ///< [kPa/mm] normal springs on the epicardium
-  double base_stiffness = 1;           ///< [kPa/mm] springs on the base, every direction
+  double base_stiffness = 100;         ///< [kPa/mm] springs on the base, every direction
   cardio::CavityPressureSettings cavity_pressure{cardio::CavityPressureMode::circulation, 1.2, 0.4, 100};
   double preload_time = 150;  ///< [ms] before the first beat (circulation): the ramp to the preload, then rest
   cardio::CirculationSettings circulation;
@@ -266,6 +266,7 @@ class HeartModel {
     s.damping_rate = Real(p.damping_rate);
     s.active_stress = true;
     s.active_stiffness = p.tension_model == cardio::TensionModel::land_2017 && p.land_velocity_dependence;
+    s.active_tension_non_negative = !p.tension_allow_negative;
     s.numerics = p.numerics.solid;
     return s;
   }
@@ -502,9 +503,13 @@ class HeartCirculation {
       : heart_(heart), p_(p), origin_(beat_origin(p)), quiet_(quiet), circulation_(settings(heart, p)) {
     for (std::size_t c = 0; c < heart_.cavities.size(); ++c)
       (heart_.cavities[c].label == cardio::label_lv_endo ? lv_ : rv_) = c;
-    if (origin_ == 0) start();
-    else  // a step ends where the circulation starts
+    if (origin_ == 0) {
+      start();
+    } else {  // a step ends where the circulation starts; until then it follows the unloaded cavities
       stepper.add_event("end of preload", {stepper.end_time(), true, true, false, Real(origin_)}, [](const sph::StepInfo&) {});
+      const auto v = volumes();
+      circulation_.initialise(0, v[0], v[1], 0, 0);
+    }
     stepper.add_step_callback([this, &stepper](const sph::StepInfo& s) { after_step(s, stepper); });
     auto columns = circulation_.columns();
     columns.erase(columns.begin());  // its own time: the run's time is the first column
@@ -696,15 +701,20 @@ class HeartScene final : public Scene {
     p_.numerics.discretisation.output_interval = 20;
     // The beat's solid numerics (docs/electromechanics.md, "A physiological beat"): inertia scaled by
     // 4 (the beat is slow against the wall's acoustic time), the conservative hourglass control and
-    // the pair viscosity, which damp the particle-scale modes that physiological tension excites.
+    // the pair viscosity, which damp the particle-scale modes that physiological tension excites,
+    // and a step of 0.45 of the acoustic limit (at 0.6 the transversely isotropic wall inverted).
     p_.numerics.solid.mass_scaling = 4;
     p_.numerics.solid.hourglass_control = "energy";
     p_.numerics.solid.artificial_viscosity = Real(0.25);
+    p_.numerics.solid.cfl = Real(0.45);
     // The closed loop of Regazzoni et al. 2022 for this heart, whose cavities hold about half the
     // blood of an adult's (unloaded LV 54 mL): twice their systemic arterial resistance, so that half
-    // their cardiac output meets the same arterial pressure, and a starting state near the beat's
-    // own (venous pressures at the preload instead of their 30 and 24 mmHg).
+    // their cardiac output meets the same arterial pressure, and half their systemic arterial
+    // compliance (the impedance doubled with RC kept: an adult's pulse pressure from this smaller
+    // stroke volume); a starting state near the beat's own (venous pressures at the preload
+    // instead of their 30 and 24 mmHg).
     p_.circulation.systemic_arterial.resistance *= 2;
+    p_.circulation.systemic_arterial.compliance /= 2;
     p_.circulation.initial_systemic_venous_pressure = 1.6;
     p_.circulation.initial_pulmonary_venous_pressure = 1.4;
   }
@@ -763,7 +773,7 @@ class HeartScene final : public Scene {
                "active tension: Land et al. 2017 crossbridges driven by the calcium of ten Tusscher-Panfilov and the fibre "
                "stretch, or Nash-Panfilov driven by the potential (k_a, tension_*)");
     p.add("land_reference_tension", p_.land_reference_tension, "kPa", "T_ref of the Land model, its maximal isometric tension (Land et al. 2017: 120 at the cell; "
-          "400 calibrated for the default heart's ejection, docs/electromechanics.md)", sph::Range::positive());
+          "600 calibrated for the default heart's ejection, docs/electromechanics.md)", sph::Range::positive());
     p.add("land_velocity_dependence", p_.land_velocity_dependence,
           "the Land model sees the fibre stretch rate (crossbridge distortion); false: the length dependence only");
     p.add("k_a", p_.k_a, "kPa/mV", "active tension per mV above rest (Nash-Panfilov k_a; the SPHinXsys heart: 0.1, i.e. 10 kPa per unit of u)",
@@ -781,8 +791,7 @@ class HeartScene final : public Scene {
                 {"zhang_2021", PassiveLaw::zhang_2021}},
                "Holzapfel-Ogden constants: those of Holzapfel & Ogden 2009 (Phil. Trans. R. Soc. A 367:3445, fitted to "
                "shear tests of human-like myocardium), the same without the sheet and fibre-sheet terms (transversely "
-               "isotropic: the wall thickens and ejects more, but the two-particle RV wall at dp 2 mm inverts; "
-               "docs/electromechanics.md), "
+               "isotropic, the default: the wall thickens in systole instead of compressing; docs/electromechanics.md), "
                "or those of the SPHinXsys heart case (Zhang et al. 2021), stiffer");
     p.add("density", p_.density, "mg/mm^3", "tissue density", sph::Range::positive());
     p.add("bulk_modulus", p_.bulk_modulus, "kPa", "K of the volumetric penalty (near incompressibility)", sph::Range::positive());
