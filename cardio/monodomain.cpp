@@ -53,6 +53,7 @@ Monodomain<Dim>::Monodomain(sph::ParticleSet<Dim>& particles, const sph::InnerRe
     : particles_(particles),
       settings_(std::move(settings)),
       reaction_(make_reaction(particles, settings_)),
+      relation_(relation),
       diffusion_(particles, relation,
                  diffusion_settings<Dim>(settings_, std::visit([](const auto& r) { return r.potential_field(); }, reaction_))) {
   if (!(settings_.numerics.time_step > 0 && std::isfinite(settings_.numerics.time_step)))
@@ -65,6 +66,10 @@ Monodomain<Dim>::Monodomain(sph::ParticleSet<Dim>& particles, const sph::InnerRe
                                     "' names particle " + std::to_string(i) + " of " + std::to_string(n));
   potential_ = diffusion_.value_field();
   activation_ = particles.template register_field<Real>("activation_time", Real(-1));
+  if (settings_.repolarisation_percent != 0)
+    maps_ = std::make_unique<ActionPotentialMaps<Dim>>(particles, settings_.repolarisation_percent,
+                                                       settings_.activation_threshold);
+  if (maps_) conduction_velocity_ = particles.template register_field<Real>("conduction_velocity", Real(-1));
   stimulus_.assign(n, 0);
   previous_potential_.assign(n, 0);
   step_ = stage();
@@ -84,6 +89,10 @@ sph::Stage Monodomain<Dim>::stage(std::string name) {
       .sub_cycle(std::move(diffusion))
       .then("reaction", timers_.timed("reaction", [this](Real t, Real dt) { react(t + dt / 2, dt / 2); }))
       .then("activation", [this](Real t, Real dt) { record_activation(t, dt); });
+  if (maps_)
+    step.then("maps", timers_.timed("maps", [this](Real t, Real dt) {
+      maps_->record(previous_potential_, particles_.field(potential_), t, dt);
+    }));
   return step;
 }
 
@@ -113,6 +122,12 @@ void Monodomain<Dim>::record_activation(Real time, Real dt) {
     const Real fraction = (threshold - previous_potential_[i]) / (V[i] - previous_potential_[i]);
     activation[i] = time + fraction * dt;
   });
+}
+
+template <int Dim>
+void Monodomain<Dim>::update_conduction_velocity() {
+  if (!maps_) return;
+  conduction_velocity<Dim>(relation_, particles_.volume, particles_.field(activation_), particles_.field(conduction_velocity_));
 }
 
 template <int Dim>

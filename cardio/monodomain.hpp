@@ -15,10 +15,12 @@
 // linear interpolation within the step. The diffusion is the anisotropic SPH operator of
 // libsph/diffusion with conductivity tensors D_t I + (D_l - D_t) f (x) f from the fibres.
 
+#include <memory>
 #include <string>
 #include <variant>
 #include <vector>
 
+#include "cardio/ep_maps.hpp"
 #include "libsph/core/neighbour_relation.hpp"
 #include "libsph/core/particles.hpp"
 #include "libsph/core/section_timers.hpp"
@@ -69,10 +71,13 @@ class Monodomain {
     Real activation_threshold = 0;                 ///< V of the upstroke that marks activation [mV]
     std::vector<StimulusRegion> stimuli;
     bool write_states = false;                     ///< write every cell state variable to output
+    /// Action potential maps (cardio/ep_maps.hpp) at this repolarisation percentage, e.g. 90 for
+    /// APD90; 0: none (no bookkeeping beyond the first activation time).
+    Real repolarisation_percent = 0;
   };
   /// Seconds spent in each part of the step, for run reports.
   struct Timings {
-    double reaction = 0, diffusion = 0;
+    double reaction = 0, diffusion = 0, maps = 0;
   };
 
   /// The relation must be the inner relation of `particles` and outlive the system.
@@ -84,6 +89,8 @@ class Monodomain {
   Real time_step() const { return settings_.numerics.time_step; }
   /// The diffusion sub-step limit (cfl times the forward-Euler limit of the assembled operator).
   Real diffusion_time_step() const { return diffusion_.stable_time_step(); }
+  /// The diffusion tensors in use (one, or one per particle) [mm^2/ms].
+  const std::vector<sph::Mat<Dim>>& diffusion_tensor() const { return diffusion_.settings().diffusion_tensor; }
   /// Replaces the diffusion tensors (one, or one per particle) and reassembles the operator.
   void set_diffusion_tensor(std::vector<sph::Mat<Dim>> diffusion_tensor) {
     diffusion_.set_diffusion_tensor(std::move(diffusion_tensor));
@@ -99,11 +106,17 @@ class Monodomain {
   /// The free cytosolic calcium Ca_i [mM] of a cell model that has one (ten Tusscher-Panfilov 2006);
   /// an invalid handle otherwise.
   sph::FieldHandle<Real> calcium_field() const;
+  /// The action potential maps, or null when Settings::repolarisation_percent is 0.
+  const ActionPotentialMaps<Dim>* maps() const { return maps_.get(); }
+  /// With maps: the field `conduction_velocity` from the first activation times (cardio/ep_maps.hpp)
+  /// over the monodomain's relation; call before writing it. Without maps: nothing.
+  void update_conduction_velocity();
+  sph::FieldHandle<Real> conduction_velocity_field() const { return conduction_velocity_; }
   /// True when every particle has been activated.
   bool all_activated() const;
   /// Latest activation time over the particles [ms], or -1 if some particle is not activated.
   Real latest_activation() const;
-  Timings timings() const { return {timers_.seconds("reaction"), timers_.seconds("diffusion")}; }
+  Timings timings() const { return {timers_.seconds("reaction"), timers_.seconds("diffusion"), timers_.seconds("maps")}; }
   std::size_t diffusion_substeps() const { return timers_.calls("diffusion"); }
   /// Splitting steps taken (two reaction half steps each).
   std::size_t steps() const { return timers_.calls("reaction") / 2; }
@@ -122,8 +135,11 @@ class Monodomain {
   sph::ParticleSet<Dim>& particles_;
   Settings settings_;
   Reaction reaction_;
+  const sph::InnerRelation<Dim>& relation_;
   sph::ScalarDiffusionSystem<Dim> diffusion_;  // after reaction_: it diffuses reaction_'s potential, passed by handle
   sph::FieldHandle<Real> potential_, activation_;
+  std::unique_ptr<ActionPotentialMaps<Dim>> maps_;
+  sph::FieldHandle<Real> conduction_velocity_;
   std::vector<Real> stimulus_, previous_potential_;
   sph::SectionTimers timers_;  // reaction and diffusion, for run reports
   sph::Stage step_;

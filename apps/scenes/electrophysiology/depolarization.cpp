@@ -60,6 +60,7 @@ class DepolarizationScene final : public Scene {
     settings.diffusion_tensor = {static_cast<Real>(p_.diffusivity) * sph::Mat<2>::Identity()};
     settings.activation_threshold = Real(0.5);
     settings.numerics = p_.numerics.monodomain;
+    settings.repolarisation_percent = static_cast<Real>(p_.numerics.apd_percent);
     cardio::Monodomain<2> monodomain(body, relation, settings);
     auto V = body.field(monodomain.potential_field());
     for (std::size_t i = 0; i < body.n_particles(); ++i) {

@@ -1,5 +1,7 @@
 #include "apps/scenes/electrophysiology/ep_run.hpp"
 
+#include <algorithm>
+
 #include "libsph/core/time_stepper.hpp"
 #include "libsph/io/run_harness.hpp"
 
@@ -8,6 +10,11 @@ namespace cardiosph {
 void declare_ep_numerics(sph::Parameters& p, EpSceneNumerics& n, const std::string& time_unit) {
   declare_parameters(p, n.discretisation, time_unit);
   cardio::declare_parameters(p, n.monodomain, time_unit);
+  p.add("apd_percent", n.apd_percent, "%",
+        "action potential maps at this repolarisation percentage (fields apdNN, latest_activation_time, "
+        "repolarisation_time, diastolic_interval, max_upstroke_velocity, beats, conduction_velocity; summary in "
+        "report.json); 0: none",
+        sph::Range{0, 100, false, true});
 }
 
 template <int Dim>
@@ -25,7 +32,7 @@ EpTraces run_monodomain(cardio::Monodomain<Dim>& monodomain, sph::ParticleSet<Di
     if (plan.stop_when_all_activated && monodomain.all_activated()) stepper.stop_after_this_step();
   });
   sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, plan.scene, ctx.quiet});
-  run.add_body(body, static_cast<sph::Real>(plan.output_interval));
+  run.add_body(body, static_cast<sph::Real>(plan.output_interval), [&](double) { monodomain.update_conduction_velocity(); });
   run.add_relation(body.name(), relation);
   std::vector<std::string> columns;
   for (std::size_t p = 0; p < probes.size(); ++p)
@@ -49,9 +56,50 @@ EpTraces run_monodomain(cardio::Monodomain<Dim>& monodomain, sph::ParticleSet<Di
   report.results["reaction_seconds"] = timing.reaction;
   report.results["diffusion_seconds"] = timing.diffusion;
   report.results["diffusion_substeps"] = monodomain.diffusion_substeps();
+  if (monodomain.maps()) report.results["maps"] = ep_map_summary(monodomain);
   if (run.time_loop_seconds() > 0 && report.steps > 0)
     report.results["particle_steps_per_second"] = double(report.steps) * double(body.n_particles()) / run.time_loop_seconds();
   return traces;
+}
+
+namespace {
+nlohmann::json distribution(std::vector<double> values) {
+  nlohmann::json d;
+  d["count"] = values.size();
+  if (values.empty()) return d;
+  std::sort(values.begin(), values.end());
+  auto at = [&](double q) { return values[std::size_t(q * double(values.size() - 1) + 0.5)]; };
+  d["min"] = values.front();
+  d["p10"] = at(0.1);
+  d["median"] = at(0.5);
+  d["p90"] = at(0.9);
+  d["max"] = values.back();
+  return d;
+}
+}  // namespace
+
+template <int Dim>
+nlohmann::json ep_map_summary(cardio::Monodomain<Dim>& monodomain) {
+  const auto* maps = monodomain.maps();
+  if (!maps) return nullptr;
+  monodomain.update_conduction_velocity();
+  const auto& body = monodomain.particles();
+  auto values = [&](sph::FieldHandle<sph::Real> field, double lowest) {
+    std::vector<double> v;
+    for (sph::Real x : body.field(field))
+      if (x > lowest) v.push_back(x);
+    return v;
+  };
+  nlohmann::json s;
+  s["repolarisation_percent"] = maps->repolarisation_percent();
+  s[maps->apd_name() + "_ms"] = distribution(values(maps->apd_field(), 0));
+  s["diastolic_interval_ms"] = distribution(values(maps->diastolic_interval_field(), -1));
+  s["max_upstroke_velocity_mV_per_ms"] = distribution(values(maps->upstroke_velocity_field(), 0));
+  s["conduction_velocity_mm_per_ms"] = distribution(values(monodomain.conduction_velocity_field(), 0));
+  s["seconds"] = monodomain.timings().maps;
+  const std::size_t steps = monodomain.steps();
+  if (steps > 0) s["seconds_per_step"] = monodomain.timings().maps / double(steps);
+  return s;
 }
 
 std::vector<double> upward_crossings(const std::vector<double>& time, const std::vector<double>& value, double level) {
@@ -62,6 +110,8 @@ std::vector<double> upward_crossings(const std::vector<double>& time, const std:
   return crossings;
 }
 
+template nlohmann::json ep_map_summary<2>(cardio::Monodomain<2>&);
+template nlohmann::json ep_map_summary<3>(cardio::Monodomain<3>&);
 template EpTraces run_monodomain<2>(cardio::Monodomain<2>&, sph::ParticleSet<2>&, const sph::NeighbourList<2>&,
                                     const sph::PointProbes<2>&, const EpRunPlan&, RunContext&);
 template EpTraces run_monodomain<3>(cardio::Monodomain<3>&, sph::ParticleSet<3>&, const sph::NeighbourList<3>&,

@@ -21,6 +21,8 @@ namespace cardiosph {
 struct EpSceneNumerics {
   Discretisation discretisation;
   cardio::MonodomainNumerics monodomain;
+  /// Action potential maps at this repolarisation percentage (cardio/ep_maps.hpp); 0: none.
+  double apd_percent = 0;
 };
 
 void declare_ep_numerics(sph::Parameters& p, EpSceneNumerics& n, const std::string& time_unit);
@@ -48,6 +50,13 @@ template <int Dim>
 EpTraces run_monodomain(cardio::Monodomain<Dim>& monodomain, sph::ParticleSet<Dim>& body,
                         const sph::NeighbourList<Dim>& relation, const sph::PointProbes<Dim>& probes,
                         const EpRunPlan& plan, RunContext& ctx);
+
+/// The action potential maps of `monodomain` summarised for report.json: per map (APD, diastolic
+/// interval, maximum upstroke velocity, conduction velocity) the number of particles with a value and
+/// its minimum, 10th percentile, median, 90th percentile and maximum, and the time spent on the maps.
+/// Updates the conduction velocity first. Null without maps.
+template <int Dim>
+nlohmann::json ep_map_summary(cardio::Monodomain<Dim>& monodomain);
 
 /// Times at which a trace rises through `level` (linear interpolation between samples).
 std::vector<double> upward_crossings(const std::vector<double>& time, const std::vector<double>& value, double level);

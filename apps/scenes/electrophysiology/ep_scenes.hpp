@@ -49,13 +49,14 @@ struct SpiralWaveParameters {
 struct NiedererSlabParameters {
   long resolution = 6;      ///< particles across the 3 mm side: dx = 3 / resolution (6: 0.5, 15: 0.2, 30: 0.1 mm)
   double end_time = 250;    ///< the run stops earlier once every particle has been activated [ms]
+  bool stop_when_activated = true;
   double sigma_il = 0.17, sigma_it = 0.019, sigma_el = 0.62, sigma_et = 0.24;  ///< [S/m]
   double surface_to_volume = 140;   ///< chi [1/mm]
   double capacitance = 0.01;        ///< C_m [uF/mm^2]
   double stimulus_current = 50;     ///< [uA/mm^3] (50,000 uA/cm^3)
   double stimulus_duration = 2;     ///< [ms]
   double stimulus_size = 1.5;       ///< side of the stimulated corner cube [mm]
-  EpSceneNumerics numerics{{1.3, "wendland_c2", 0}, {sph::ReactionScheme::rbr_qss, sph::Real(0.05)}};
+  EpSceneNumerics numerics{{1.3, "wendland_c2", 0}, {sph::ReactionScheme::rbr_qss, sph::Real(0.05)}, 90};
 };
 
 std::unique_ptr<Scene> make_cell_scene(CellParameters p = {});

@@ -32,8 +32,11 @@ class NiedererSlabScene final : public Scene {
   void declare(sph::Parameters& p) override {
     p.add("resolution", p_.resolution, "-", "particles across the 3 mm side: dx = 3 / resolution (6: 0.5 mm, 15: 0.2, 30: 0.1)",
           sph::Range::positive());
-    p.add("end_time", p_.end_time, "ms", "longest simulated time; the run ends once every particle is activated",
+    p.add("end_time", p_.end_time, "ms",
+          "longest simulated time; the run ends once every particle is activated unless stop_when_activated = false",
           sph::Range::positive());
+    p.add("stop_when_activated", p_.stop_when_activated,
+          "end the run once every particle is activated (false: run to end_time, e.g. for the APD map)");
     p.add("sigma_il", p_.sigma_il, "S/m", "intracellular conductivity along the fibres", sph::Range::positive());
     p.add("sigma_it", p_.sigma_it, "S/m", "intracellular conductivity across the fibres", sph::Range::positive());
     p.add("sigma_el", p_.sigma_el, "S/m", "extracellular conductivity along the fibres", sph::Range::positive());
@@ -76,10 +79,12 @@ class NiedererSlabScene final : public Scene {
     const double strength = p_.stimulus_current / (p_.surface_to_volume * p_.capacitance);  // mV/ms
     settings.stimuli = {{"corner cube", stimulated, {0, p_.stimulus_duration, strength, 0, 1}}};
     settings.numerics = p_.numerics.monodomain;
+    settings.repolarisation_percent = static_cast<Real>(p_.numerics.apd_percent);
     cardio::Monodomain<3> monodomain(body, relation, settings);
 
     const sph::PointProbes<3> probes(std::vector<Vec3>(points.begin(), points.end()), body.position, body.volume, kernel, h);
-    EpRunPlan plan{"niederer-slab", p_.end_time, p_.numerics.discretisation.output_interval, 0.5, true,
+    EpRunPlan plan{"niederer-slab", p_.end_time, p_.numerics.discretisation.output_interval, 0.5,
+                   p_.stop_when_activated,
                    {"P1", "P2", "P3", "P4", "P5", "P6", "P7", "P8", "P9"}, {}};
     run_monodomain<3>(monodomain, body, relation, probes, plan, ctx);
 

@@ -74,6 +74,7 @@ class SpiralWaveScene final : public Scene {
     sph::StimulusProtocol s2{p_.s2_time, p_.stimulus_duration, p_.stimulus_strength, 0, p_.s2_time > 0 ? 1 : 0};
     settings.stimuli = {{"S1", left_strip, s1}, {"S2", lower_half, s2}};
     settings.numerics = p_.numerics.monodomain;
+    settings.repolarisation_percent = static_cast<Real>(p_.numerics.apd_percent);
     cardio::Monodomain<2> monodomain(body, relation, settings);
 
     const std::vector<Vec2> observers{Vec2(L / 4, L / 4), Vec2(3 * L / 4, L / 4), Vec2(L / 4, 3 * L / 4),
