@@ -14,19 +14,35 @@ bool plot_csv(const std::filesystem::path& folder, const CsvPlot& plot) {
   bool long_titles = false;  // long legends go below the plot, where they do not squeeze it
   for (const auto& series : plot.series) long_titles = long_titles || series.title.size() > 30;
   std::ostringstream script;
-  script << "set terminal pngcairo size 900,650 enhanced font 'sans,11'\n"
+  const bool panels = plot.panel_columns > 0;
+  const std::size_t rows = panels ? (plot.series.size() + std::size_t(plot.panel_columns) - 1) / std::size_t(plot.panel_columns) : 1;
+  script << "set terminal pngcairo size " << (panels ? 1100 : 900) << "," << (panels ? 60 + 170 * rows : 650)
+         << " enhanced font 'sans," << (panels ? 9 : 11) << "'\n"
          << "set output '" << partial << "'\n"
          << "set datafile separator ','\n"
          << (plot.logarithmic ? "set logscale xy\n" : "")
-         << "set grid\n"
-         << (long_titles ? "set key below\n" : "set key outside right top\n")
-         << "set title '" << plot.title << "' noenhanced\n"
-         << "set xlabel '" << plot.x_label << "' noenhanced\nset ylabel '" << plot.y_label << "' noenhanced\n"
-         << "plot ";
-  for (std::size_t s = 0; s < plot.series.size(); ++s)
-    script << (s ? ", " : "") << "'" << (plot.series[s].csv.empty() ? plot.csv : plot.series[s].csv) << "' using " << plot.series[s].x_column << ":" << plot.series[s].y_column
-           << " skip 1 with " << plot.style << (plot.style == "linespoints" ? " lw 2 pt 7" : " lw 2") << " title '" << plot.series[s].title << "' noenhanced";
-  script << "\n";
+         << "set grid\n";
+  auto series_source = [&](const PlotSeries& series) {
+    std::ostringstream s;
+    s << "'" << (series.csv.empty() ? plot.csv : series.csv) << "' using " << series.x_column << ":" << series.y_column
+      << " skip 1 with " << plot.style << (plot.style == "linespoints" ? " lw 2 pt 7" : " lw 2");
+    return s.str();
+  };
+  if (panels) {
+    script << "set multiplot layout " << rows << "," << plot.panel_columns << " title '" << plot.title << "' noenhanced\n"
+           << "set xlabel '" << plot.x_label << "' noenhanced\nset ylabel '" << plot.y_label << "' noenhanced\n";
+    for (const auto& series : plot.series)
+      script << "set title '" << series.title << "' noenhanced\nplot " << series_source(series) << " notitle\n";
+    script << "unset multiplot\n";
+  } else {
+    script << (long_titles ? "set key below\n" : "set key outside right top\n")
+           << "set title '" << plot.title << "' noenhanced\n"
+           << "set xlabel '" << plot.x_label << "' noenhanced\nset ylabel '" << plot.y_label << "' noenhanced\n"
+           << "plot ";
+    for (std::size_t s = 0; s < plot.series.size(); ++s)
+      script << (s ? ", " : "") << series_source(plot.series[s]) << " title '" << plot.series[s].title << "' noenhanced";
+    script << "\n";
+  }
   sph::write_file_atomically(folder / script_name, script.str());
   const std::string command = "cd '" + folder.string() + "' && gnuplot '" + script_name + "' 2> gnuplot.log";
   if (std::system(command.c_str()) == 0) {

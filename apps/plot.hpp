@@ -22,6 +22,7 @@ struct CsvPlot {
   std::vector<PlotSeries> series;
   bool logarithmic = true;             ///< log-log axes (false: linear)
   std::string style = "linespoints";   ///< gnuplot style of every series
+  int panel_columns = 0;  ///< > 0: one panel per series (titled by it), in this many columns
 };
 
 /// Draws the plot into folder/png (written atomically); returns false, with a note on stderr, if

@@ -114,6 +114,23 @@ TEST_F(Cli, HeartPresetWithoutItsMeshIsRejected) {
   expect_rejected({"heart", "--preset", "sphinxsys"}, (missing / "biventricular_heart.stl").string());
   ::unsetenv("CARDIOSPH_SHARED_MESHES");
 }
+TEST_F(Cli, UnreadableRestitutionCouplingIsRejected) {
+  expect_rejected({"cable", "--set", "restitution_couplings=400,soon"}, "'restitution_couplings'");
+}
+TEST_F(Cli, CouplingShorterThanThePulseIsRejected) {
+  expect_rejected({"cable", "--set", "pacing=s1s2", "--set", "s2_coupling=1"}, "'s2_coupling'");
+}
+TEST_F(Cli, StimulusThatSelectsNoParticleIsRejected) {
+  expect_rejected({"cable", "--set", "stimulus_length=0.1"}, "selects no particle");
+}
+TEST_F(Cli, MalformedElectrodeIsRejected) {
+  expect_rejected({"cable", "--set", "ecg=electrodes", "--set", "ecg_electrodes=far:20,1"}, "'ecg_electrodes'");
+}
+TEST_F(Cli, ElectrodeInsideTheTissueIsRejected) {
+  expect_rejected({"cable", "--set", "ecg=electrodes", "--set", "ecg_electrodes=in:5,0.25,0.25", "--set", "pacing=train",
+                   "--set", "pacing_period=10", "--set", "stimulus_duration=1"},
+                  "electrode 'in'");
+}
 TEST_F(Cli, UnknownChoiceIsRejected) { expect_rejected({"diffusion", "--set", "kernel=gauss"}, "must be one of"); }
 TEST_F(Cli, MissingConfigIsRejected) {
   expect_rejected({"diffusion", "--config", (folder_ / "missing.toml").string()}, "cannot be read");

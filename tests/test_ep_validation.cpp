@@ -119,4 +119,29 @@ TEST(EpValidation, NiedererSlabCoarse) {
   EXPECT_NEAR(tissue, cell, 0.03 * cell);
 }
 
+// The cable (10 x 0.5 x 0.5 mm, dx 0.25 mm) under two S1-S2 blocks (two S1 at 600 ms, S2 at 450
+// and 350 ms): both S2 captured, APD and CV fall with the diastolic interval (restitution), and
+// the APD of each S2 beat at the middle lies within 3 % of the single cell's under the same pulses.
+TEST(EpValidation, CableRestitutionAgainstTheSingleCell) {
+  cardiosph::CableParameters parameters;
+  parameters.pacing.period = 600;
+  parameters.pacing.s1_count = 2;
+  parameters.pacing.couplings = "450,350";
+  const auto r = run_scene(*cardiosph::make_cable_scene(parameters), "cable");
+  const auto& curve = r.results.at("beats").at("restitution");
+  ASSERT_EQ(curve.size(), 2u);
+  for (const auto& row : curve) {
+    ASSERT_TRUE(row.at("captured").get<bool>());
+    std::printf("S2 at %.0f ms: DI %.1f ms, APD90 %.1f ms, CV %.3f mm/ms\n", row.at("coupling_ms").get<double>(),
+                row.at("diastolic_interval_ms").get<double>(), row.at("apd_ms").get<double>(),
+                row.at("cv_mm_per_ms").get<double>());
+  }
+  EXPECT_GT(curve[0].at("diastolic_interval_ms").get<double>(), curve[1].at("diastolic_interval_ms").get<double>());
+  EXPECT_GT(curve[0].at("apd_ms").get<double>(), curve[1].at("apd_ms").get<double>());
+  EXPECT_GT(curve[0].at("cv_mm_per_ms").get<double>(), curve[1].at("cv_mm_per_ms").get<double>());
+  const double error = r.errors.at("restitution_apd_max_relative").get<double>();
+  std::printf("largest APD difference from the single cell: %.2f %%\n", 100 * error);
+  EXPECT_LT(error, 0.03);
+}
+
 }  // namespace

@@ -36,6 +36,9 @@ const std::vector<SceneEntry>& scene_registry() {
        [] { return make_spiral_wave_scene(); }},
       {"niederer-slab", "3D ten Tusscher-Panfilov slab benchmark (Niederer et al. 2011): activation times at P1..P9",
        [] { return make_niederer_slab_scene(); }},
+      {"cable", "3D strand of ten Tusscher-Panfilov cells under a pacing protocol (train, S1-S2, restitution): APD and "
+                "CV per beat, restitution curves against the single cell",
+       [] { return make_cable_scene(); }},
       {"particles", "heart mesh to body-fitted particles, surface labels and LDRB fibres (cached): volume and fibre-angle errors",
        [] { return make_particles_scene(); }, {"mesh"}, {"dp"}},
       {"myocardium-cube", "active myocardium cube on a sliding holder (prescribed tension): corner displacements and "

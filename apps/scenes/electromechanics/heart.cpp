@@ -27,6 +27,8 @@
 
 #include "apps/scenes/electromechanics/em_scenes.hpp"
 #include "apps/scenes/electromechanics/em_setup.hpp"
+#include "apps/scenes/electrophysiology/ecg_output.hpp"
+#include "apps/scenes/electrophysiology/ep_run.hpp"
 #include "apps/scenes/geometry/heart_geometry_parameters.hpp"
 #include "apps/scenes/solid/solid_run.hpp"
 #include "apps/plot.hpp"
@@ -77,6 +79,8 @@ struct HeartParameters {
                                         {sph::DiffusionCorrection::moment, sph::DiffusionIntegrator::forward_euler,
                                          Real(0.9), true}};
   cardio::ElectromechanicsSettings coupling;
+  double apd_percent = 90;  ///< action potential maps (cardio/ep_maps.hpp); 0: none
+  EcgParameters ecg{"twelve_lead"};
   // Active tension.
   cardio::TensionModel tension_model = cardio::TensionModel::land_2017;
   double land_reference_tension = 600;  ///< T_ref [kPa] (calibrated, docs/electromechanics.md)
@@ -278,6 +282,7 @@ class HeartModel {
     else if (dimensionless) ep.cell_model = nash_panfilov_dimensionless();
     else ep.cell_model = sph::AlievPanfilov::nash_panfilov_2004();
     ep.numerics = p.monodomain;
+    ep.repolarisation_percent = Real(p.apd_percent);
     ep.longitudinal_diffusivity = Real(D_fibre);
     ep.transverse_diffusivity = Real(D_cross);
     const auto f = body.field(solid.fiber_field());
@@ -764,6 +769,12 @@ class HeartScene final : public Scene {
     p.add("cycle_length", p_.cycle_length, "ms", "pacing period", sph::Range::positive());
     p.add("end_time", p_.end_time, "ms", "simulated time (0: preload_time + beats x cycle_length)", sph::Range::non_negative());
     cardio::declare_parameters(p, p_.monodomain, "ms");
+    p.add("apd_percent", p_.apd_percent, "%",
+          "action potential maps at this repolarisation percentage (fields apdNN, latest_activation_time, "
+          "repolarisation_time, diastolic_interval, max_upstroke_velocity, beats, conduction_velocity; summary in "
+          "report.json); 0: none",
+          sph::Range{0, 100, false, true});
+    declare_parameters(p, p_.ecg, {"twelve_lead"});
     p.add("deformed_conduction", p_.coupling.deformed_conduction,
           "conduction follows the deformed fibres (D pulled back through F); false: D of the reference configuration");
     p.add("conduction_update_interval", p_.coupling.conduction_update_interval, "ms",
@@ -834,6 +845,7 @@ class HeartScene final : public Scene {
     }
     if (p_.stimulus_duration >= p_.cycle_length)
       throw sph::ParameterError("parameter 'stimulus_duration' must be shorter than 'cycle_length'");
+    if (p_.ecg.mode == "electrodes") (void)parse_electrodes(p_.ecg.electrodes);
     if (p_.stimulus_site == StimulusSite::box && !(p_.stimulus_box_min.array() < p_.stimulus_box_max.array()).all())
       throw sph::ParameterError("parameter 'stimulus_box_min' must lie below 'stimulus_box_max' in x, y and z");
   }
@@ -888,6 +900,26 @@ class HeartScene final : public Scene {
   HeartParameters p_;
 };
 
+/// The electrodes of the pseudo-ECG: the 12-lead set placed by the heart's frame (its centre, the
+/// base-to-apex direction -base_normal and the LV-to-RV endocardial centroids), or the given ones.
+std::vector<cardio::Electrode> heart_electrodes(const HeartModel& heart, const cardio::HeartGeometry& g, const EcgParameters& p) {
+  if (p.mode != "twelve_lead") return parse_electrodes(p.electrodes);
+  Vec3 centre = Vec3::Zero(), lv = Vec3::Zero(), rv = Vec3::Zero();
+  std::size_t n_lv = 0, n_rv = 0;
+  for (std::size_t i = 0; i < heart.n(); ++i) {
+    centre += heart.X[i];
+    if (heart.labels[i] == cardio::label_lv_endo) lv += heart.X[i], ++n_lv;
+    if (heart.labels[i] == cardio::label_rv_endo) rv += heart.X[i], ++n_rv;
+  }
+  if (n_lv == 0 || n_rv == 0)
+    throw sph::ParameterError("parameter 'ecg' = twelve_lead places the electrodes by the LV and RV endocardia, and this "
+                              "heart has no particle labelled " + std::string(n_lv == 0 ? "LV" : "RV") +
+                              " endocardium (use ecg = electrodes)");
+  centre /= Real(heart.n());
+  return cardio::twelve_lead_electrodes(centre, -g.base_normal.cast<Real>(), rv / Real(n_rv) - lv / Real(n_lv),
+                                        p.chest_radius, p.limb_distance);
+}
+
 // The scene as a short program: geometry, systems, coupling, run, report.
 void HeartScene::run(RunContext& ctx) {
   const auto wall_start = std::chrono::steady_clock::now();
@@ -912,9 +944,21 @@ void HeartScene::run(RunContext& ctx) {
   cardio::add_electromechanics<3>(stepper, heart.monodomain, heart.tension, heart.solid, p_.coupling, run.timers());
 
   // 4. Outputs and run.
-  run.add_body(heart.body, Real(p_.numerics.discretisation.output_interval), [&](double) { heart.solid.update_output_fields(); });
+  run.add_body(heart.body, Real(p_.numerics.discretisation.output_interval), [&](double) {
+    heart.solid.update_output_fields();
+    heart.monodomain.update_conduction_velocity();
+  });
   run.add_relation("heart", heart.relation);
   HeartRecorder recorder(heart, run, stepper, p_);
+  std::optional<EcgRecorder> ecg;
+  if (p_.ecg.mode != "none") {
+    EcgRecorder::Source source{[&] { return std::span<const Real>(heart.body.field(heart.monodomain.potential_field())); },
+                               [&] { return std::span<const sph::Mat<3>>(heart.monodomain.diffusion_tensor()); },
+                               [&] { return std::span<const Vec3>(heart.body.position); },
+                               [&] { return std::span<const sph::Mat<3>>(heart.body.field(heart.solid.deformation_gradient_field())); }};
+    ecg.emplace(p_.ecg, heart_electrodes(heart, g, p_.ecg), p_.ecg.mode == "twelve_lead", heart.relation, heart.X,
+                heart.body.volume, heart.dp, source, run);
+  }
   std::optional<HeartCirculation> circulation;
   if (p_.cavity_pressure.mode == cardio::CavityPressureMode::circulation) circulation.emplace(heart, stepper, run, p_, ctx.quiet);
   auto& r = ctx.report;
@@ -924,6 +968,8 @@ void HeartScene::run(RunContext& ctx) {
 
   // 5. Report.
   recorder.report(r);
+  if (ecg) ecg->finish(ctx.output_dir, r);
+  if (heart.monodomain.maps()) r.results["maps"] = ep_map_summary(heart.monodomain);
   if (circulation) {
     circulation->report(r);
     circulation->plot(ctx.output_dir);

@@ -48,6 +48,7 @@ EpTraces run_monodomain(cardio::Monodomain<Dim>& monodomain, sph::ParticleSet<Di
     return row;
   });
 
+  if (plan.before_run) plan.before_run(run);
   auto& report = ctx.report;
   report.results["time_step"] = monodomain.time_step();
   report.results["diffusion_time_step_limit"] = monodomain.diffusion_time_step();

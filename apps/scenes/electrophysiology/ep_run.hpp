@@ -13,6 +13,7 @@
 #include "cardio/monodomain.hpp"
 #include "libsph/core/point_probes.hpp"
 #include "libsph/core/time_stepper.hpp"
+#include "libsph/io/run_harness.hpp"
 
 namespace cardiosph {
 
@@ -35,6 +36,7 @@ struct EpRunPlan {
   bool stop_when_all_activated = false;  ///< end the run once every particle has been activated
   std::vector<std::string> probe_names;  ///< one per probe, for the CSV header
   std::function<void(const sph::StepInfo&)> every_step;  ///< after every step (may be empty)
+  std::function<void(sph::RunHarness&)> before_run;     ///< adds further outputs (may be empty)
 };
 
 /// Sampled potential at the probes.

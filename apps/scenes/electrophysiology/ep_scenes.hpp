@@ -4,7 +4,9 @@
 #include <memory>
 #include <string>
 
+#include "apps/scenes/electrophysiology/ecg_output.hpp"
 #include "apps/scenes/electrophysiology/ep_run.hpp"
+#include "apps/scenes/electrophysiology/pacing.hpp"
 #include "apps/scenes/scene.hpp"
 
 namespace cardiosph {
@@ -50,6 +52,7 @@ struct NiedererSlabParameters {
   long resolution = 6;      ///< particles across the 3 mm side: dx = 3 / resolution (6: 0.5, 15: 0.2, 30: 0.1 mm)
   double end_time = 250;    ///< the run stops earlier once every particle has been activated [ms]
   bool stop_when_activated = true;
+  PacingParameters pacing;
   double sigma_il = 0.17, sigma_it = 0.019, sigma_el = 0.62, sigma_et = 0.24;  ///< [S/m]
   double surface_to_volume = 140;   ///< chi [1/mm]
   double capacitance = 0.01;        ///< C_m [uF/mm^2]
@@ -59,6 +62,23 @@ struct NiedererSlabParameters {
   EpSceneNumerics numerics{{1.3, "wendland_c2", 0}, {sph::ReactionScheme::rbr_qss, sph::Real(0.05)}, 90};
 };
 
+/// `cable`: a strand of ten Tusscher-Panfilov cells under a pacing protocol (mm, ms, mV).
+struct CableParameters {
+  double length = 10, width = 0.5;  ///< [mm]
+  long resolution = 2;              ///< particles across the width (dx = 0.25 mm)
+  double end_time = 0;              ///< [ms]; 0: the protocol's
+  double sigma_il = 0.17, sigma_it = 0.019, sigma_el = 0.62, sigma_et = 0.24;  ///< [S/m]
+  double surface_to_volume = 140;   ///< chi [1/mm]
+  double capacitance = 0.01;        ///< C_m [uF/mm^2]
+  double stimulus_current = 50;     ///< [uA/mm^3]
+  double stimulus_duration = 2;     ///< [ms]
+  double stimulus_length = 1;       ///< [mm] stimulated from x = 0
+  PacingParameters pacing{"restitution"};
+  EcgParameters ecg;
+  EpSceneNumerics numerics{{1.3, "wendland_c2", 0}, {sph::ReactionScheme::rbr_qss, sph::Real(0.05)}, 90};
+};
+
+std::unique_ptr<Scene> make_cable_scene(CableParameters p = {});
 std::unique_ptr<Scene> make_cell_scene(CellParameters p = {});
 std::unique_ptr<Scene> make_depolarization_scene(DepolarizationParameters p = {});
 std::unique_ptr<Scene> make_spiral_wave_scene(SpiralWaveParameters p = {});

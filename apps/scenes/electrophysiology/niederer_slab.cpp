@@ -5,6 +5,7 @@
 // Activation times at P1..P9 are fitted (linear MLS) from the particles' activation field.
 #include <array>
 #include <cmath>
+#include <optional>
 
 #include "apps/scenes/electrophysiology/ep_scenes.hpp"
 #include "apps/scenes/solid/solid_run.hpp"
@@ -47,12 +48,16 @@ class NiedererSlabScene final : public Scene {
           sph::Range::non_negative());
     p.add("stimulus_duration", p_.stimulus_duration, "ms", "stimulus duration", sph::Range::positive());
     p.add("stimulus_size", p_.stimulus_size, "mm", "side of the stimulated corner cube", sph::Range::positive());
+    declare_parameters(p, p_.pacing);
     declare_ep_numerics(p, p_.numerics, "ms");
   }
   void check() const override {
     const double dx = 3.0 / static_cast<double>(p_.resolution);
     check_whole_spacings(20, dx, "resolution (20 mm / dx)");
     check_whole_spacings(7, dx, "resolution (7 mm / dx)");
+    (void)pacing_plan(p_.pacing, p_.stimulus_duration, 1);
+    if (p_.pacing.protocol != "train" && p_.numerics.apd_percent <= 0)
+      throw sph::ParameterError("parameter 'pacing' = " + p_.pacing.protocol + " needs the APD maps (apd_percent > 0)");
   }
   void run(RunContext& ctx) override {
     const Real dx = Real(3) / static_cast<Real>(p_.resolution);
@@ -77,7 +82,8 @@ class NiedererSlabScene final : public Scene {
     for (std::size_t i = 0; i < body.n_particles(); ++i)
       if ((body.position[i].array() < size).all()) stimulated.push_back(i);
     const double strength = p_.stimulus_current / (p_.surface_to_volume * p_.capacitance);  // mV/ms
-    settings.stimuli = {{"corner cube", stimulated, {0, p_.stimulus_duration, strength, 0, 1}}};
+    const PacingPlan pacing = pacing_plan(p_.pacing, p_.stimulus_duration, strength);
+    settings.stimuli = {{"corner cube", stimulated, pacing.stimulus}};
     settings.numerics = p_.numerics.monodomain;
     settings.repolarisation_percent = static_cast<Real>(p_.numerics.apd_percent);
     cardio::Monodomain<3> monodomain(body, relation, settings);
@@ -86,7 +92,22 @@ class NiedererSlabScene final : public Scene {
     EpRunPlan plan{"niederer-slab", p_.end_time, p_.numerics.discretisation.output_interval, 0.5,
                    p_.stop_when_activated,
                    {"P1", "P2", "P3", "P4", "P5", "P6", "P7", "P8", "P9"}, {}};
+    // Per-beat records with the maps: APD at the centre P9, CV along the fibres from P5 to P7.
+    std::optional<BeatRecorder<3>> beats;
+    if (monodomain.maps()) {
+      auto nearest = [&](const Vec3& x) {
+        std::size_t best = 0;
+        for (std::size_t i = 1; i < body.n_particles(); ++i)
+          if ((body.position[i] - x).squaredNorm() < (body.position[best] - x).squaredNorm()) best = i;
+        return best;
+      };
+      beats.emplace(monodomain, std::vector<BeatRecorder<3>::Point>{{"P9", nearest(points[8])}, {"P5", nearest(points[4])},
+                                                                    {"P7", nearest(points[6])}},
+                    1, 2);
+      plan.every_step = [&](const sph::StepInfo&) { beats->record(); };
+    }
     run_monodomain<3>(monodomain, body, relation, probes, plan, ctx);
+    if (beats) beats->finish(ctx.output_dir, pacing, p_.pacing.period, ctx.report);
 
     auto& r = ctx.report;
     const auto activation = body.field(monodomain.activation_field());
