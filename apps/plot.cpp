@@ -8,9 +8,29 @@
 
 namespace cardiosph {
 
-bool plot_csv(const std::filesystem::path& folder, const CsvPlot& plot) {
+namespace {
+/// Runs the gnuplot script that writes png + ".partial", then renames it; `data` names the files
+/// that stay complete without the picture.
+bool run_gnuplot(const std::filesystem::path& folder, const std::string& png, const std::string& script,
+                 const std::string& data) {
   namespace fs = std::filesystem;
-  const std::string partial = plot.png + ".partial", script_name = plot.png + ".gp";
+  const std::string partial = png + ".partial", script_name = png + ".gp";
+  sph::write_file_atomically(folder / script_name, script);
+  const std::string command = "cd '" + folder.string() + "' && gnuplot '" + script_name + "' 2> gnuplot.log";
+  if (std::system(command.c_str()) == 0) {
+    sph::commit_temporary(folder / partial, folder / png);
+    fs::remove(folder / "gnuplot.log");
+    return true;
+  }
+  fs::remove(folder / partial);
+  std::cerr << "the plot " << png << " was not made (is gnuplot installed? see " << (folder / "gnuplot.log").string()
+            << "); " << (data.empty() ? std::string("the CSV files are") : data + " is") << " complete\n";
+  return false;
+}
+}  // namespace
+
+bool plot_csv(const std::filesystem::path& folder, const CsvPlot& plot) {
+  const std::string partial = plot.png + ".partial";
   bool long_titles = false;  // long legends go below the plot, where they do not squeeze it
   for (const auto& series : plot.series) long_titles = long_titles || series.title.size() > 30;
   std::ostringstream script;
@@ -43,17 +63,21 @@ bool plot_csv(const std::filesystem::path& folder, const CsvPlot& plot) {
       script << (s ? ", " : "") << series_source(plot.series[s]) << " title '" << plot.series[s].title << "' noenhanced";
     script << "\n";
   }
-  sph::write_file_atomically(folder / script_name, script.str());
-  const std::string command = "cd '" + folder.string() + "' && gnuplot '" + script_name + "' 2> gnuplot.log";
-  if (std::system(command.c_str()) == 0) {
-    sph::commit_temporary(folder / partial, folder / plot.png);
-    fs::remove(folder / "gnuplot.log");
-    return true;
-  }
-  fs::remove(folder / partial);
-  std::cerr << "the plot " << plot.png << " was not made (is gnuplot installed? see " << (folder / "gnuplot.log").string()
-            << "); " << (plot.csv.empty() ? std::string("the CSV files are") : plot.csv + " is") << " complete\n";
-  return false;
+  return run_gnuplot(folder, plot.png, script.str(), plot.csv);
+}
+
+bool plot_scatter(const std::filesystem::path& folder, const CsvScatter& scatter) {
+  std::ostringstream script;
+  script << "set terminal pngcairo size 900,800 enhanced font 'sans,11'\n"
+         << "set output '" << scatter.png << ".partial'\n"
+         << "set datafile separator ','\n"
+         << "set view " << scatter.view_rotation_x << "," << scatter.view_rotation_z << "\nset view equal xyz\n"
+         << "set xlabel 'x [mm]'\nset ylabel 'y [mm]'\nset zlabel 'z [mm]'\n"
+         << "set palette rgb 33,13,10\nset cblabel '" << scatter.colour_label << "' noenhanced\n"
+         << "set title '" << scatter.title << "' noenhanced\n"
+         << "splot '" << scatter.csv << "' using 1:2:3:" << scatter.colour_column
+         << " skip 1 with points pt 7 ps 0.7 palette notitle\n";
+  return run_gnuplot(folder, scatter.png, script.str(), scatter.csv);
 }
 
 }  // namespace cardiosph

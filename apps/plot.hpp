@@ -25,6 +25,16 @@ struct CsvPlot {
   int panel_columns = 0;  ///< > 0: one panel per series (titled by it), in this many columns
 };
 
+/// Points x, y, z of a CSV coloured by a column, drawn in 3D (e.g. particles by activation time).
+struct CsvScatter {
+  std::string csv, png, title, colour_label;
+  int colour_column = 4;  ///< 1-based; x, y, z are columns 1-3
+  double view_rotation_x = 60, view_rotation_z = 30;  ///< gnuplot's `set view` angles [degrees]
+};
+
+/// Draws the scatter into folder/png (atomically); false, with a note, if gnuplot failed or is missing.
+bool plot_scatter(const std::filesystem::path& folder, const CsvScatter& scatter);
+
 /// Draws the plot into folder/png (written atomically); returns false, with a note on stderr, if
 /// gnuplot failed or is missing.
 bool plot_csv(const std::filesystem::path& folder, const CsvPlot& plot);

@@ -1,6 +1,7 @@
 #include "apps/scenes/electrophysiology/ecg_output.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <sstream>
 
 #include "apps/plot.hpp"
@@ -88,22 +89,27 @@ EcgRecorder::EcgRecorder(const EcgParameters& p, std::vector<cardio::Electrode> 
   }
   lowest_.assign(columns_.size(), std::numeric_limits<double>::infinity());
   highest_.assign(columns_.size(), -std::numeric_limits<double>::infinity());
-  run.add_time_series("ecg.csv", columns_, sph::Real(p.interval), [this](const sph::StepInfo&) {
+  run.add_time_series("ecg.csv", columns_, sph::Real(p.interval), [this](const sph::StepInfo& step) {
     const auto start = std::chrono::steady_clock::now();
     const auto phi = ecg_.potentials(source_.potential(), source_.conduction(), source_.positions(),
                                      source_.deformation ? source_.deformation() : std::span<const sph::Mat<3>>());
     auto row = leads_.empty() ? phi : cardio::lead_values(leads_, phi);
+    double squares = 0;
     for (std::size_t c = 0; c < row.size(); ++c) {
       lowest_[c] = std::min(lowest_[c], row[c]);
       highest_[c] = std::max(highest_[c], row[c]);
+      squares += row[c] * row[c];
     }
+    time_.push_back(step.time);
+    rms_.push_back(std::sqrt(squares / double(row.size())));
     seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     ++samples_;
     return row;
   });
 }
 
-void EcgRecorder::finish(const std::filesystem::path& folder, sph::RunReport& report) const {
+void EcgRecorder::finish(const std::filesystem::path& folder, sph::RunReport& report,
+                         std::optional<std::pair<double, double>> qrs_window) const {
   CsvPlot plot{"ecg.csv", "ecg.png", "pseudo-ECG", "time [ms]", "potential [mV]", {}, false, "lines",
                columns_.size() > 3 ? 3 : 1};
   for (std::size_t c = 0; c < columns_.size(); ++c) plot.series.push_back({1, int(c) + 2, columns_[c], ""});
@@ -115,6 +121,19 @@ void EcgRecorder::finish(const std::filesystem::path& folder, sph::RunReport& re
   s["samples"] = samples_;
   s["seconds"] = seconds_;
   if (samples_ > 0) s["seconds_per_sample"] = seconds_ / double(samples_);
+  if (qrs_window) {
+    const auto [start, length] = *qrs_window;
+    double peak = 0;
+    for (std::size_t k = 0; k < time_.size(); ++k)
+      if (time_[k] >= start && time_[k] < start + length) peak = std::max(peak, rms_[k]);
+    double first = -1, last = -1;
+    for (std::size_t k = 0; k < time_.size(); ++k)
+      if (time_[k] >= start && time_[k] < start + length && rms_[k] > 0.1 * peak) {
+        if (first < 0) first = time_[k];
+        last = time_[k];
+      }
+    if (peak > 0) s["qrs_duration_ms"] = last - first;
+  }
 }
 
 }  // namespace cardiosph

@@ -50,14 +50,17 @@ class EcgRecorder {
   EcgRecorder(const EcgParameters& p, std::vector<cardio::Electrode> electrodes, bool twelve_lead,
               const sph::NeighbourList<3>& relation, std::span<const sph::Vec<3>> reference_positions,
               std::span<const sph::Real> volumes, double particle_spacing, Source source, sph::RunHarness& run);
-  /// ecg.png, and the summary under results["ecg"].
-  void finish(const std::filesystem::path& folder, sph::RunReport& report) const;
+  /// ecg.png, and the summary under results["ecg"]. With a window [start, start + length): the QRS
+  /// duration in it, the time during which the RMS over the columns exceeds 10 % of its peak there.
+  void finish(const std::filesystem::path& folder, sph::RunReport& report,
+              std::optional<std::pair<double, double>> qrs_window = {}) const;
 
  private:
   cardio::PseudoEcg ecg_;
   std::vector<cardio::Lead> leads_;
   std::vector<std::string> columns_;
   std::vector<double> lowest_, highest_;
+  std::vector<double> time_, rms_;
   Source source_;
   double seconds_ = 0;
   std::size_t samples_ = 0;

@@ -1,7 +1,7 @@
 #include "apps/scenes/electrophysiology/pacing.hpp"
 
 #include <cmath>
-#include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "apps/plot.hpp"
@@ -119,10 +119,18 @@ void BeatRecorder<Dim>::finish(const std::filesystem::path& folder, const Pacing
       if (b.activation >= onset && b.activation < onset + period) return &b;
     return nullptr;
   };
+  // CV of every beat that reached both points: the first activation of the far point after the near
+  // one's and before the near point's next beat (a beat blocked in between has none).
   std::vector<double> cv_of_beats;
-  for (const auto& b : beats_[cv_from_])
-    if (const Beat* later = beat_after(cv_to_, b.activation); later && later->activation > b.activation)
-      cv_of_beats.push_back(distance_ / (later->activation - b.activation));
+  const auto& near = beats_[cv_from_];
+  for (std::size_t k = 0; k < near.size(); ++k) {
+    const double next = k + 1 < near.size() ? near[k + 1].activation : std::numeric_limits<double>::infinity();
+    for (const auto& far : beats_[cv_to_])
+      if (far.activation > near[k].activation && far.activation < next) {
+        cv_of_beats.push_back(distance_ / (far.activation - near[k].activation));
+        break;
+      }
+  }
   s["cv_points"] = {points_[cv_from_].name, points_[cv_to_].name};
   s["cv_mm_per_ms"] = cv_of_beats;
   if (plan.s2_onsets.empty()) return;
