@@ -33,12 +33,22 @@ typename sph::ScalarDiffusionSystem<Dim>::Settings diffusion_settings(const type
 
 template <int Dim>
 typename Monodomain<Dim>::Reaction Monodomain<Dim>::make_reaction(sph::ParticleSet<Dim>& particles, const Settings& settings) {
+  const bool variants = !settings.cell_variants.empty();
   return std::visit(
-      [&](const auto& model) -> Reaction {
-        using M = std::decay_t<decltype(model)>;
-        return sph::ReactionSystem<Dim, M>(particles, model, {settings.numerics.scheme, settings.write_states});
+      [&](const auto& first) -> Reaction {
+        using M = std::decay_t<decltype(first)>;
+        std::vector<M> models;
+        for (const auto& any : variants ? settings.cell_variants : std::vector<sph::AnyCellModel>{settings.cell_model}) {
+          const M* model = std::get_if<M>(&any);
+          if (!model)
+            throw std::invalid_argument("monodomain on '" + particles.name() + "': every cell variant must be of the same model");
+          models.push_back(*model);
+        }
+        return sph::ReactionSystem<Dim, M>(particles, std::move(models),
+                                           variants ? settings.cell_variant : std::vector<std::uint16_t>{},
+                                           {settings.numerics.scheme, settings.write_states});
       },
-      settings.cell_model);
+      variants ? settings.cell_variants.front() : settings.cell_model);
 }
 
 template <int Dim>

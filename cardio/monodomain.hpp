@@ -15,6 +15,7 @@
 // linear interpolation within the step. The diffusion is the anisotropic SPH operator of
 // libsph/diffusion with conductivity tensors D_t I + (D_l - D_t) f (x) f from the fibres.
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <variant>
@@ -63,6 +64,10 @@ class Monodomain {
   };
   struct Settings {
     sph::AnyCellModel cell_model = sph::AlievPanfilov{};
+    /// A heterogeneous tissue: particle i takes cell_variants[cell_variant[i]] (all of the same
+    /// model; e.g. cardio/cell_heterogeneity.hpp), and cell_model is unused. Empty: cell_model everywhere.
+    std::vector<sph::AnyCellModel> cell_variants;
+    std::vector<std::uint16_t> cell_variant;
     MonodomainNumerics numerics;
     std::vector<sph::Mat<Dim>> diffusion_tensor;   ///< D [mm^2/ms], one (uniform) or one per particle
     /// D_l along and D_t across the fibres [mm^2/ms], for conduction that follows a deforming

@@ -1,4 +1,4 @@
-// ten Tusscher-Panfilov 2006 human ventricular cell model, epicardial variant.
+// ten Tusscher-Panfilov 2006 human ventricular cell model: epicardial, endocardial and M cell variants.
 // Source: ten Tusscher & Panfilov 2006, Am. J. Physiol. Heart Circ. Physiol. 291:H1088,
 //         doi:10.1152/ajpheart.00109.2006, appendix, with the currents carried over from
 //         ten Tusscher, Noble, Noble & Panfilov 2004, Am. J. Physiol. Heart 286:H1573,
@@ -12,6 +12,10 @@
 //   I_CaL at V = 15 mV (0/0 in the GHK factor) and J_up at Ca_i = 0 (written as Ca^2/(Ca^2 + K^2)).
 
 #include "libsph/reaction/ten_tusscher_panfilov_2006.hpp"
+
+#include <string>
+
+#include <stdexcept>
 
 #include <cmath>
 #include <initializer_list>
@@ -40,6 +44,46 @@ T x_over_expm1(const T& x) {
 }
 
 }  // namespace
+
+TenTusscherPanfilov2006::Parameters TenTusscherPanfilov2006::Parameters::of(CellType type) {
+  Parameters p;
+  p.cell_type = type;
+  if (type == CellType::endocardial) p.g_to = 0.073;
+  if (type == CellType::mid_myocardial) p.g_Ks = 0.098;
+  return p;
+}
+
+const std::array<std::string_view, 14>& TenTusscherPanfilov2006::Parameters::channels() {
+  static const std::array<std::string_view, 14> names{"g_Na",  "g_K1",  "g_to",   "g_Kr",   "g_Ks",  "g_CaL", "g_bNa",
+                                                      "g_bCa", "g_pK",  "g_pCa",  "g_NaCa", "g_NaK", "g_rel", "g_up"};
+  return names;
+}
+
+void TenTusscherPanfilov2006::Parameters::scale(std::string_view channel, double factor) {
+  if (!(factor >= 0) || !std::isfinite(factor))
+    throw std::invalid_argument("ten Tusscher-Panfilov: the factor of '" + std::string(channel) + "' must be finite and >= 0");
+  double* target = channel == "g_Na"     ? &g_Na
+                    : channel == "g_K1"  ? &g_K1
+                    : channel == "g_to"  ? &g_to
+                    : channel == "g_Kr"  ? &g_Kr
+                    : channel == "g_Ks"  ? &g_Ks
+                    : channel == "g_CaL" ? &g_CaL
+                    : channel == "g_bNa" ? &g_bNa
+                    : channel == "g_bCa" ? &g_bCa
+                    : channel == "g_pK"  ? &g_pK
+                    : channel == "g_pCa" ? &g_pCa
+                    : channel == "g_NaCa" ? &K_NaCa
+                    : channel == "g_NaK" ? &P_NaK
+                    : channel == "g_rel" ? &V_rel
+                    : channel == "g_up"  ? &Vmax_up
+                                         : nullptr;
+  if (!target) {
+    std::string known;
+    for (auto name : channels()) known += (known.empty() ? "" : ", ") + std::string(name);
+    throw std::invalid_argument("ten Tusscher-Panfilov has no channel '" + std::string(channel) + "' (known: " + known + ")");
+  }
+  *target *= factor;
+}
 
 TenTusscherPanfilov2006::TenTusscherPanfilov2006(Parameters parameters) : p_(parameters) {
   RT_over_F_ = p_.gas_constant * p_.temperature / p_.faraday_constant;
@@ -130,7 +174,9 @@ TenTusscherPanfilov2006::GateKinetics<T> TenTusscherPanfilov2006::gate_kinetics(
     }
     case SI::r:  // I_to activation
       return {1 / (1 + exp((20 - V) / 6)), 9.5 * exp(-square(V + 40) / 1800) + 0.8};
-    case SI::s:  // I_to inactivation, EPICARDIAL form (endocardium: (V + 28)/5 and a 1000 ms tau)
+    case SI::s:  // I_to inactivation: endocardial form, or the epicardial one (also the M cell's)
+      if (p_.cell_type == CellType::endocardial)
+        return {1 / (1 + exp((V + 28) / 5)), 1000 * exp(-square(V + 67) / 1000) + 8};
       return {1 / (1 + exp((V + 20) / 5)), 85 * exp(-square(V + 45) / 320) + 5 / (1 + exp((V - 20) / 5)) + 3};
     case SI::d: {  // I_CaL activation
       const T inf = 1 / (1 + exp((-8 - V) / 7.5));

@@ -1,5 +1,6 @@
 #pragma once
-// ten Tusscher-Panfilov 2006 human ventricular cell model, EPICARDIAL variant.
+// ten Tusscher-Panfilov 2006 human ventricular cell model: epicardial (default), endocardial and
+// mid-myocardial (M) variants.
 // Source: ten Tusscher & Panfilov 2006, Am. J. Physiol. Heart Circ. Physiol. 291:H1088,
 //         doi:10.1152/ajpheart.00109.2006 (appendix; the currents it keeps unchanged are those of
 //         ten Tusscher, Noble, Noble & Panfilov 2004, Am. J. Physiol. Heart 286:H1573), in the form
@@ -13,7 +14,10 @@
 //   gates:         dx/dt = (x_inf(V) - x) / tau_x(V)   (fCass: x_inf(Ca_ss), tau_x(Ca_ss))
 //   calcium:       Ca_i, Ca_ss, Ca_SR free concentrations with rapid buffering, RyR state R'
 //   concentrations: Na_i, K_i from the currents that carry them.
-// The epicardial cell has G_to = 0.294 nS/pF, G_Ks = 0.392 nS/pF and the epicardial s_inf, tau_s.
+// The epicardial cell has G_to = 0.294 nS/pF, G_Ks = 0.392 nS/pF and the epicardial s_inf, tau_s;
+// the endocardial cell G_to = 0.073 and the endocardial s gate (s_inf = 1/(1 + exp((V + 28)/5)),
+// tau_s = 1000 exp(-(V + 67)^2/1000) + 8); the M cell G_Ks = 0.098 with the epicardial s gate
+// (ten Tusscher & Panfilov 2006 appendix; ten Tusscher et al. 2004 for the s gates).
 //
 // Production/loss form (reaction_model.hpp), dy/dt = q - p y with p >= 0:
 //   gates, R':      q = y_inf / tau, p = 1 / tau (Rush-Larsen); R': q = k4, p = k2 Ca_ss + k4
@@ -37,7 +41,9 @@ class TenTusscherPanfilov2006 {
   /// The published constants (ten Tusscher & Panfilov 2006 appendix; CellML
   /// ten_tusscher_model_2006_epi). The numbers inside the gate formulas (half-activation voltages,
   /// slopes, time-constant fits) are written next to each formula in the .cpp.
+  enum class CellType { epicardial, endocardial, mid_myocardial };
   struct Parameters {
+    CellType cell_type = CellType::epicardial;    ///< chooses the I_to inactivation gate
     // Physical constants and cell geometry.
     double gas_constant = 8.314;                  ///< R [J mol^-1 K^-1]
     double temperature = 310;                     ///< T [K]
@@ -94,6 +100,15 @@ class TenTusscherPanfilov2006 {
     double K_buf_sr = 0.3;      ///< Ca_SR half-saturation of the SR buffer [mM]
     double Buf_ss = 0.4;        ///< total subspace buffer [mM]
     double K_buf_ss = 0.00025;  ///< Ca_ss half-saturation of the subspace buffer [mM]
+
+    /// The published parameters of a cell type (G_to, G_Ks and the s gate differ).
+    static Parameters of(CellType type);
+    /// Multiplies the maximal conductance or current of `channel` by `factor` (>= 0): g_Na, g_K1,
+    /// g_to, g_Kr, g_Ks, g_CaL, g_bNa, g_bCa, g_pK, g_pCa, g_NaCa (K_NaCa), g_NaK (P_NaK), g_rel
+    /// (V_rel), g_up (Vmax_up). Throws std::invalid_argument for another name or a negative factor.
+    void scale(std::string_view channel, double factor);
+    /// The channel names scale() accepts.
+    static const std::array<std::string_view, 14>& channels();
   };
 
   static constexpr std::size_t n_states = 19;

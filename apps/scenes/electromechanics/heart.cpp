@@ -28,6 +28,7 @@
 
 #include "apps/scenes/electromechanics/em_scenes.hpp"
 #include "apps/scenes/electromechanics/em_setup.hpp"
+#include "apps/scenes/electrophysiology/cell_variation.hpp"
 #include "apps/scenes/electrophysiology/ecg_output.hpp"
 #include "apps/scenes/electrophysiology/ep_run.hpp"
 #include "apps/scenes/geometry/heart_geometry_parameters.hpp"
@@ -82,6 +83,7 @@ struct HeartParameters {
                                          Real(0.9), true}};
   cardio::ElectromechanicsSettings coupling;
   double apd_percent = 90;  ///< action potential maps (cardio/ep_maps.hpp); 0: none
+  CellVariationParameters cells;
   EcgParameters ecg{"twelve_lead"};
   // Active tension.
   cardio::TensionModel tension_model = cardio::TensionModel::land_2017;
@@ -161,7 +163,7 @@ class HeartModel {
         D_fibre(p.diffusivity_fibre > 0 ? p.diffusivity_fibre : 1.0),
         D_cross(p.diffusivity_cross > 0 ? p.diffusivity_cross : D_fibre / 4),
         stimulus_centre(stimulus_centre_of(p, g)),
-        monodomain(body, relation, monodomain_settings(p)),
+        monodomain(body, relation, monodomain_settings(p, g)),
         tension(body, p.tension_model == cardio::TensionModel::land_2017 ? monodomain.calcium_field() : monodomain.potential_field(),
                 tension_settings(p)),
         X(body.field(solid.reference_position_field())) {
@@ -214,6 +216,7 @@ class HeartModel {
   const double D_fibre, D_cross;
   const Vec3 stimulus_centre;
   std::size_t stimulated = 0;
+  cardio::CellGroups cell_groups;  ///< the cell types and scalings of the ten Tusscher-Panfilov tissue
   cardio::Monodomain<3> monodomain;
   cardio::ActiveTension<3> tension;
   std::span<const Vec3> X;
@@ -278,9 +281,14 @@ class HeartModel {
   }
   /// Aliev-Panfilov (Nash-Panfilov parameters) or ten Tusscher-Panfilov 2006, conduction D_l along
   /// the solid's fibres and D_t across, and the paced stimulus within the radius of the centre.
-  cardio::Monodomain<3>::Settings monodomain_settings(const HeartParameters& p) {
+  cardio::Monodomain<3>::Settings monodomain_settings(const HeartParameters& p, const cardio::HeartGeometry& g) {
     cardio::Monodomain<3>::Settings ep;
-    if (ttp) ep.cell_model = sph::TenTusscherPanfilov2006{};
+    if (ttp) {
+      const auto& f = g.fibres;
+      cell_groups = cardio::ten_tusscher_groups(cell_heterogeneity(p.cells), n(), f.transmural, f.apicobasal, f.lv, f.rv);
+      if (cell_groups.models.size() == 1) ep.cell_model = cell_groups.models[0];
+      else ep.cell_variants = cell_groups.models, ep.cell_variant = cell_groups.group;
+    }
     else if (dimensionless) ep.cell_model = nash_panfilov_dimensionless();
     else ep.cell_model = sph::AlievPanfilov::nash_panfilov_2004();
     ep.numerics = p.monodomain;
@@ -777,6 +785,7 @@ class HeartScene final : public Scene {
           "report.json); 0: none",
           sph::Range{0, 100, false, true});
     declare_parameters(p, p_.ecg, {"twelve_lead"});
+    declare_parameters(p, p_.cells, true);
     p.add("deformed_conduction", p_.coupling.deformed_conduction,
           "conduction follows the deformed fibres (D pulled back through F); false: D of the reference configuration");
     p.add("conduction_update_interval", p_.coupling.conduction_update_interval, "ms",
@@ -848,6 +857,12 @@ class HeartScene final : public Scene {
     if (p_.stimulus_duration >= p_.cycle_length)
       throw sph::ParameterError("parameter 'stimulus_duration' must be shorter than 'cycle_length'");
     if (p_.ecg.mode == "electrodes") (void)parse_electrodes(p_.ecg.electrodes);
+    const auto cells = cell_heterogeneity(p_.cells);
+    if (p_.cell_model != CellModel::ten_tusscher_panfilov &&
+        (cells.transmural || cells.needs_coordinates() || !cells.scalings.empty() || !cells.drugs.empty() ||
+         cells.uniform_type != sph::TenTusscherPanfilov2006::CellType::epicardial))
+      throw sph::ParameterError("the cell types, conductance scalings, drug block and populations need cell_model = "
+                                "ten_tusscher_panfilov");
     if (p_.stimulus_site == StimulusSite::box && !(p_.stimulus_box_min.array() < p_.stimulus_box_max.array()).all())
       throw sph::ParameterError("parameter 'stimulus_box_min' must lie below 'stimulus_box_max' in x, y and z");
   }
@@ -987,8 +1002,9 @@ void HeartScene::run(RunContext& ctx) {
 
   // 5. Report.
   recorder.report(r);
-  // The first beat's QRS: within 150 ms of its stimulus (ventricular activation takes 60-80 ms).
-  if (ecg) ecg->finish(ctx.output_dir, r, std::pair{beat_origin(p_), 150.0});
+  // The first beat's QRS (within 150 ms of its stimulus: ventricular activation takes 60-80 ms), T
+  // wave and QT interval.
+  if (ecg) ecg->finish(ctx.output_dir, r, EcgRecorder::Beat{beat_origin(p_), p_.cycle_length, 150});
   if (heart.monodomain.maps()) r.results["maps"] = ep_map_summary(heart.monodomain);
   write_activation_map(ctx.output_dir, heart);
   if (circulation) {
@@ -999,6 +1015,20 @@ void HeartScene::run(RunContext& ctx) {
   r.results["geometry_from_cache"] = g.from_cache;
   r.results["fixed_base_particles"] = heart.base.size();
   r.results["stimulated_particles"] = heart.stimulated;
+  // The cell groups, with the median APD of each (the gradient across the wall with layers).
+  const auto* maps = heart.monodomain.maps();
+  for (std::size_t k = 0; k < heart.cell_groups.names.size(); ++k) {
+    auto& group = r.results["cell_groups"][heart.cell_groups.names[k]];
+    group["particles"] = heart.cell_groups.counts[k];
+    if (!maps) continue;
+    std::vector<double> apd;
+    const auto values = heart.body.field(maps->apd_field());
+    for (std::size_t i = 0; i < heart.n(); ++i)
+      if ((heart.cell_groups.group.empty() || heart.cell_groups.group[i] == k) && values[i] > 0) apd.push_back(values[i]);
+    if (apd.empty()) continue;
+    std::nth_element(apd.begin(), apd.begin() + std::ptrdiff_t(apd.size() / 2), apd.end());
+    group[maps->apd_name() + "_median_ms"] = apd[apd.size() / 2];
+  }
   r.results["stimulus_centre_mm"] = {heart.stimulus_centre[0], heart.stimulus_centre[1], heart.stimulus_centre[2]};
   r.results["diffusivity_mm2_per_ms"] = {heart.D_fibre, heart.D_cross};
   r.results["max_activation_ms"] = heart.monodomain.latest_activation();

@@ -1,5 +1,6 @@
 #include "apps/scenes/electrophysiology/ecg_output.hpp"
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -108,8 +109,7 @@ EcgRecorder::EcgRecorder(const EcgParameters& p, std::vector<cardio::Electrode> 
   });
 }
 
-void EcgRecorder::finish(const std::filesystem::path& folder, sph::RunReport& report,
-                         std::optional<std::pair<double, double>> qrs_window) const {
+void EcgRecorder::finish(const std::filesystem::path& folder, sph::RunReport& report, std::optional<Beat> beat) const {
   CsvPlot plot{"ecg.csv", "ecg.png", "pseudo-ECG", "time [ms]", "potential [mV]", {}, false, "lines",
                columns_.size() > 3 ? 3 : 1};
   for (std::size_t c = 0; c < columns_.size(); ++c) plot.series.push_back({1, int(c) + 2, columns_[c], ""});
@@ -121,19 +121,26 @@ void EcgRecorder::finish(const std::filesystem::path& folder, sph::RunReport& re
   s["samples"] = samples_;
   s["seconds"] = seconds_;
   if (samples_ > 0) s["seconds_per_sample"] = seconds_ / double(samples_);
-  if (qrs_window) {
-    const auto [start, length] = *qrs_window;
-    double peak = 0;
+  if (!beat) return;
+  // The RMS above `fraction` of its peak within [from, to): first and last such sample times.
+  auto above = [&](double from, double to, double fraction) {
+    double peak = 0, peak_time = -1, first = -1, last = -1;
     for (std::size_t k = 0; k < time_.size(); ++k)
-      if (time_[k] >= start && time_[k] < start + length) peak = std::max(peak, rms_[k]);
-    double first = -1, last = -1;
+      if (time_[k] >= from && time_[k] < to && rms_[k] > peak) peak = rms_[k], peak_time = time_[k];
     for (std::size_t k = 0; k < time_.size(); ++k)
-      if (time_[k] >= start && time_[k] < start + length && rms_[k] > 0.1 * peak) {
+      if (time_[k] >= from && time_[k] < to && peak > 0 && rms_[k] > fraction * peak) {
         if (first < 0) first = time_[k];
         last = time_[k];
       }
-    if (peak > 0) s["qrs_duration_ms"] = last - first;
-  }
+    return std::array<double, 3>{first, last, peak_time};
+  };
+  const auto qrs = above(beat->start, beat->start + beat->qrs_window, 0.1);
+  if (qrs[0] < 0) return;
+  s["qrs_duration_ms"] = qrs[1] - qrs[0];
+  const auto t = above(qrs[1] + 1e-9, beat->start + beat->length, 0.1);
+  if (t[0] < 0) return;
+  s["t_peak_ms"] = t[2] - beat->start;
+  s["qt_interval_ms"] = t[1] - qrs[0];
 }
 
 }  // namespace cardiosph

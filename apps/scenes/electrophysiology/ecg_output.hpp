@@ -50,10 +50,16 @@ class EcgRecorder {
   EcgRecorder(const EcgParameters& p, std::vector<cardio::Electrode> electrodes, bool twelve_lead,
               const sph::NeighbourList<3>& relation, std::span<const sph::Vec<3>> reference_positions,
               std::span<const sph::Real> volumes, double particle_spacing, Source source, sph::RunHarness& run);
-  /// ecg.png, and the summary under results["ecg"]. With a window [start, start + length): the QRS
-  /// duration in it, the time during which the RMS over the columns exceeds 10 % of its peak there.
-  void finish(const std::filesystem::path& folder, sph::RunReport& report,
-              std::optional<std::pair<double, double>> qrs_window = {}) const;
+  /// One beat of the ECG: its stimulus time and length, and how long after the stimulus the QRS is
+  /// sought.
+  struct Beat {
+    double start = 0, length = 0, qrs_window = 150;
+  };
+  /// ecg.png, and the summary under results["ecg"]. With a beat, its intervals from the RMS over the
+  /// columns: the QRS from the first to the last sample above 10 % of the RMS peak within qrs_window
+  /// (qrs_duration_ms); the T wave as the RMS peak after the QRS (t_peak_ms, after the stimulus), and
+  /// the QT interval from the QRS onset to the last sample above 10 % of that peak (qt_interval_ms).
+  void finish(const std::filesystem::path& folder, sph::RunReport& report, std::optional<Beat> beat = {}) const;
 
  private:
   cardio::PseudoEcg ecg_;

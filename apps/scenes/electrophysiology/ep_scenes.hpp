@@ -4,6 +4,7 @@
 #include <memory>
 #include <string>
 
+#include "apps/scenes/electrophysiology/cell_variation.hpp"
 #include "apps/scenes/electrophysiology/ecg_output.hpp"
 #include "apps/scenes/electrophysiology/ep_run.hpp"
 #include "apps/scenes/electrophysiology/pacing.hpp"
@@ -74,6 +75,7 @@ struct CableParameters {
   double stimulus_duration = 2;     ///< [ms]
   double stimulus_length = 1;       ///< [mm] stimulated from x = 0
   PacingParameters pacing{"restitution"};
+  CellVariationParameters cells;
   EcgParameters ecg;
   EpSceneNumerics numerics{{1.3, "wendland_c2", 0}, {sph::ReactionScheme::rbr_qss, sph::Real(0.05)}, 90};
 };
