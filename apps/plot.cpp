@@ -71,12 +71,12 @@ bool plot_scatter(const std::filesystem::path& folder, const CsvScatter& scatter
   script << "set terminal pngcairo size 900,800 enhanced font 'sans,11'\n"
          << "set output '" << scatter.png << ".partial'\n"
          << "set datafile separator ','\n"
-         << "set view " << scatter.view_rotation_x << "," << scatter.view_rotation_z << "\nset view equal xyz\n"
+         << "set view " << scatter.view_rotation_x << "," << scatter.view_rotation_z << "\nset view equal xyz\nset ticslevel 0\n"
          << "set xlabel 'x [mm]'\nset ylabel 'y [mm]'\nset zlabel 'z [mm]'\n"
          << "set palette rgb 33,13,10\nset cblabel '" << scatter.colour_label << "' noenhanced\n"
          << "set title '" << scatter.title << "' noenhanced\n"
-         << "splot '" << scatter.csv << "' using 1:2:3:" << scatter.colour_column
-         << " skip 1 with points pt 7 ps 0.7 palette notitle\n";
+         << "splot '" << scatter.csv << "' using 1:2:3:($" << scatter.colour_column << " >= 0 ? $" << scatter.colour_column
+         << " : 1/0) skip 1 with points pt 7 ps 0.7 palette notitle\n";
   return run_gnuplot(folder, scatter.png, script.str(), scatter.csv);
 }
 

@@ -25,7 +25,8 @@ struct CsvPlot {
   int panel_columns = 0;  ///< > 0: one panel per series (titled by it), in this many columns
 };
 
-/// Points x, y, z of a CSV coloured by a column, drawn in 3D (e.g. particles by activation time).
+/// Points x, y, z of a CSV coloured by a column, drawn in 3D (e.g. particles by activation time);
+/// points with a negative colour value (none) are left out.
 struct CsvScatter {
   std::string csv, png, title, colour_label;
   int colour_column = 4;  ///< 1-based; x, y, z are columns 1-3

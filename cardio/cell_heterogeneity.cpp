@@ -56,11 +56,11 @@ bool CellHeterogeneity::needs_coordinates() const {
 }
 
 CellGroups ten_tusscher_groups(const CellHeterogeneity& h, std::size_t n, std::span<const double> transmural,
-                               std::span<const double> apicobasal, std::span<const double> lv, std::span<const double> rv) {
+                               std::span<const double> apicobasal, std::span<const std::uint8_t> rv) {
   h.check();
   const bool coordinates = h.needs_coordinates();
-  if (coordinates && (transmural.size() != n || apicobasal.size() != n || lv.size() != n || rv.size() != n))
-    throw std::invalid_argument("the cell heterogeneity needs the transmural, apico-basal, LV and RV coordinates of every "
+  if (coordinates && (transmural.size() != n || apicobasal.size() != n || rv.size() != n))
+    throw std::invalid_argument("the cell heterogeneity needs the transmural and apico-basal coordinates and the ventricle of every "
                                 "particle (fibres = ldrb)");
   // The key of a particle: cell type, apico-basal band, RV or not.
   using Key = std::tuple<int, int, bool>;
@@ -78,7 +78,7 @@ CellGroups ten_tusscher_groups(const CellHeterogeneity& h, std::size_t n, std::s
                                                                    : TP06::CellType::epicardial;
       if (h.apicobasal_gks_ratio != 1)
         band = std::min(apicobasal_bands - 1, std::max(0, int(std::floor(apicobasal[i] * apicobasal_bands))));
-      in_rv = rv[i] > lv[i];
+      in_rv = rv[i] != 0;
     }
     const Key key{int(type), band, in_rv};
     auto found = index.find(key);

@@ -58,9 +58,25 @@ struct CellGroups {
 };
 
 /// The groups for n particles. transmural (0 endocardium, 1 epicardium), apicobasal (0 apex, 1 base)
-/// and the LV and RV coordinates of the LDRB field (a particle belongs to the RV where rv > lv) may
-/// be empty when needs_coordinates() is false.
+/// and in_rv (1 for a particle of the RV, e.g. from rv_ventricle) may be empty when
+/// needs_coordinates() is false.
 CellGroups ten_tusscher_groups(const CellHeterogeneity& h, std::size_t n, std::span<const double> transmural,
-                               std::span<const double> apicobasal, std::span<const double> lv, std::span<const double> rv);
+                               std::span<const double> apicobasal, std::span<const std::uint8_t> in_rv);
+
+/// Which ventricle each particle belongs to, from the LDRB coordinates: the RV where phi_rv > phi_lv.
+/// Both vanish on the epicardium (their Dirichlet value), where the particle takes the side of the
+/// sum of phi_rv - phi_lv over its neighbours in `relation` (the inner relation of the particles).
+template <class Relation>
+std::vector<std::uint8_t> rv_ventricle(std::span<const double> lv, std::span<const double> rv, const Relation& relation) {
+  std::vector<std::uint8_t> in_rv(lv.size());
+  for (std::size_t i = 0; i < lv.size(); ++i) {
+    double difference = rv[i] - lv[i];
+    if (lv[i] + rv[i] < 1e-9)
+      for (std::size_t k = relation.offsets[i]; k < relation.offsets[i + 1]; ++k)
+        difference += rv[relation.neighbour[k]] - lv[relation.neighbour[k]];
+    in_rv[i] = difference > 0;
+  }
+  return in_rv;
+}
 
 }  // namespace cardio

@@ -42,7 +42,11 @@ void interact(Monodomain<Dim>& on, const sph::ElasticSolid<Dim>& by, sph::SamePa
   const auto f0 = body.field(by.fiber_field());
   const Real D_l = on.settings().longitudinal_diffusivity, D_t = on.settings().transverse_diffusivity;
   std::vector<sph::Mat<Dim>> D(body.n_particles());
-  sph::parallel_for(D.size(), [&](std::size_t i) { D[i] = pulled_back_conduction<Dim>(F[i], f0[i], D_l, D_t); });
+  const auto& scale = on.settings().conduction_scale;
+  sph::parallel_for(D.size(), [&](std::size_t i) {
+    const Real k = scale.empty() ? Real(1) : scale[i];
+    D[i] = pulled_back_conduction<Dim>(F[i], f0[i], k * D_l, k * D_t);
+  });
   on.set_diffusion_tensor(std::move(D));
 }
 

@@ -73,6 +73,9 @@ class Monodomain {
     /// D_l along and D_t across the fibres [mm^2/ms], for conduction that follows a deforming
     /// tissue (the interaction with the solid, cardio/electromechanics.hpp); 0 when unused.
     Real longitudinal_diffusivity = 0, transverse_diffusivity = 0;
+    /// Per particle, a factor on D_l and D_t of the deforming tissue (e.g. a fast endocardial layer
+    /// standing for the Purkinje network); empty: 1 everywhere.
+    std::vector<Real> conduction_scale;
     Real activation_threshold = 0;                 ///< V of the upstroke that marks activation [mV]
     std::vector<StimulusRegion> stimuli;
     bool write_states = false;                     ///< write every cell state variable to output

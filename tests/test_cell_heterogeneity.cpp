@@ -43,7 +43,7 @@ TEST(CellTypes, DrugBlockAtItsIc50HalvesTheConductanceAndProlongsTheApd) {
   cardio::CellHeterogeneity h;
   h.drugs = {{"g_Kr", 0.1, 1}};
   h.drug_concentration = 0.1;
-  const auto groups = cardio::ten_tusscher_groups(h, 4, {}, {}, {}, {});
+  const auto groups = cardio::ten_tusscher_groups(h, 4, {}, {}, {});
   ASSERT_EQ(groups.models.size(), 1u);
   const auto& blocked = std::get<TP06>(groups.models[0]);
   EXPECT_DOUBLE_EQ(blocked.parameters().g_Kr, 0.5 * TP06::Parameters{}.g_Kr);
@@ -60,16 +60,16 @@ TEST(CellTypes, DrugBlockAtItsIc50HalvesTheConductanceAndProlongsTheApd) {
 // Layers by the transmural coordinate and a scaling of the LV only: the groups and their counts.
 TEST(CellTypes, GroupsFollowTheLayersAndRegions) {
   const std::size_t n = 10;
-  std::vector<double> transmural, apicobasal(n, 0.5), lv(n), rv(n);
+  std::vector<double> transmural, apicobasal(n, 0.5);
+  std::vector<std::uint8_t> in_rv(n);
   for (std::size_t i = 0; i < n; ++i) {
     transmural.push_back((double(i) + 0.5) / double(n));
-    lv[i] = i < 5 ? 1 : 0;
-    rv[i] = i < 5 ? 0 : 1;
+    in_rv[i] = i >= 5;
   }
   cardio::CellHeterogeneity h;
   h.transmural = true;
   h.scalings = {{"g_Kr", 0.5, "lv"}};
-  const auto groups = cardio::ten_tusscher_groups(h, n, transmural, apicobasal, lv, rv);
+  const auto groups = cardio::ten_tusscher_groups(h, n, transmural, apicobasal, in_rv);
   // Particles 0-2 endo (lv), 3-4 mid (lv), 5 mid (rv), 6-9 epi (rv).
   ASSERT_EQ(groups.models.size(), 4u);
   EXPECT_EQ(groups.names[groups.group[0]], "endo lv");

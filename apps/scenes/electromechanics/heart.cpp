@@ -70,6 +70,10 @@ struct HeartParameters {
   /// because the straight distance is shorter than the paths of the network.
   double purkinje_velocity = 1.1;
   StimulusSite stimulus_site = StimulusSite::endocardium;
+  /// stimulus_site = endocardium: where the surrogate starts (lv_apex, durrer, or early_site_list).
+  std::string early_sites = "lv_apex";
+  std::string early_site_list;        ///< "x,y,z@t;..." [mm, ms] for early_sites = list
+  double endocardial_conduction = 1;  ///< factor on D of the endocardial particles (a fast layer)
   Eigen::Vector3d stimulus_point = Eigen::Vector3d::Zero();
   Eigen::Vector3d stimulus_box_min = Eigen::Vector3d::Zero(), stimulus_box_max = Eigen::Vector3d::Zero();
   long beats = 6;              ///< at most; fewer once the stroke volumes agree within beat_tolerance
@@ -112,6 +116,34 @@ struct HeartParameters {
   double sample_interval = 2;
   SolidSceneNumerics numerics;
 };
+
+/// An early-activation site of the endocardial Purkinje surrogate: position [mm] and time [ms].
+struct EarlySite {
+  Vec3 position;
+  double time = 0;
+};
+
+/// "x,y,z@t;..." into sites; throws sph::ParameterError naming 'early_site_list' and the entry.
+std::vector<EarlySite> parse_early_sites(const std::string& text) {
+  std::vector<EarlySite> sites;
+  std::istringstream entries(text);
+  std::string entry;
+  while (std::getline(entries, entry, ';')) {
+    if (entry.find_first_not_of(" \t") == std::string::npos) continue;
+    auto fail = [&] {
+      return sph::ParameterError("parameter 'early_site_list': entry '" + entry + "' is not x,y,z@t (mm, ms)");
+    };
+    double x = 0, y = 0, z = 0, t = 0;
+    char c1 = 0, c2 = 0, at = 0;
+    std::istringstream in(entry);
+    if (!(in >> x >> c1 >> y >> c2 >> z >> at >> t) || c1 != ',' || c2 != ',' || at != '@') throw fail();
+    std::string rest;
+    if (in >> rest || !std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z) || !(t >= 0) || !std::isfinite(t)) throw fail();
+    sites.push_back({Vec3(Real(x), Real(y), Real(z)), t});
+  }
+  if (sites.empty()) throw sph::ParameterError("parameter 'early_site_list' names no site (early_sites = list)");
+  return sites;
+}
 
 /// The time of the first stimulus: after the preload phase when the circulation drives the cavities.
 double beat_origin(const HeartParameters& p) {
@@ -217,6 +249,7 @@ class HeartModel {
   const Vec3 stimulus_centre;
   std::size_t stimulated = 0;
   cardio::CellGroups cell_groups;  ///< the cell types and scalings of the ten Tusscher-Panfilov tissue
+  std::vector<EarlySite> early;    ///< the early-activation sites of the endocardial surrogate
   cardio::Monodomain<3> monodomain;
   cardio::ActiveTension<3> tension;
   std::span<const Vec3> X;
@@ -285,7 +318,10 @@ class HeartModel {
     cardio::Monodomain<3>::Settings ep;
     if (ttp) {
       const auto& f = g.fibres;
-      cell_groups = cardio::ten_tusscher_groups(cell_heterogeneity(p.cells), n(), f.transmural, f.apicobasal, f.lv, f.rv);
+      const auto cells = cell_heterogeneity(p.cells);
+      const auto in_rv = cells.needs_coordinates() && f.lv.size() == n() ? cardio::rv_ventricle(f.lv, f.rv, relation)
+                                                                         : std::vector<std::uint8_t>{};
+      cell_groups = cardio::ten_tusscher_groups(cells, n(), f.transmural, f.apicobasal, in_rv);
       if (cell_groups.models.size() == 1) ep.cell_model = cell_groups.models[0];
       else ep.cell_variants = cell_groups.models, ep.cell_variant = cell_groups.group;
     }
@@ -296,9 +332,18 @@ class HeartModel {
     ep.longitudinal_diffusivity = Real(D_fibre);
     ep.transverse_diffusivity = Real(D_cross);
     const auto f = body.field(solid.fiber_field());
+    // A fast endocardial layer: D times endocardial_conduction on the endocardial particles.
+    if (p.endocardial_conduction != 1) {
+      ep.conduction_scale.assign(n(), Real(1));
+      for (std::size_t i = 0; i < n(); ++i)
+        if (labels[i] == cardio::label_lv_endo || labels[i] == cardio::label_rv_endo)
+          ep.conduction_scale[i] = Real(p.endocardial_conduction);
+    }
     ep.diffusion_tensor.resize(n());
-    for (std::size_t i = 0; i < n(); ++i)
-      ep.diffusion_tensor[i] = sph::transversely_isotropic_tensor<3>(Real(D_fibre), Real(D_cross), f[i]);
+    for (std::size_t i = 0; i < n(); ++i) {
+      const Real k = ep.conduction_scale.empty() ? Real(1) : ep.conduction_scale[i];
+      ep.diffusion_tensor[i] = sph::transversely_isotropic_tensor<3>(k * Real(D_fibre), k * Real(D_cross), f[i]);
+    }
     cardio::Monodomain<3>::StimulusRegion stimulus;
     const Vec3 lo = p.stimulus_box_min.cast<Real>(), hi = p.stimulus_box_max.cast<Real>();
     switch (p.stimulus_site) {
@@ -321,7 +366,7 @@ class HeartModel {
           throw sph::ParameterError("no particle lies within 'stimulus_radius' of the stimulus centre " +
                                     sph::NumericalFailure::format_position(stimulus_centre));
         break;
-      case StimulusSite::endocardium: endocardial_stimuli(p, ep); break;
+      case StimulusSite::endocardium: endocardial_stimuli(p, g, ep); break;
     }
     if (p.stimulus_site != StimulusSite::endocardium) {
       stimulated = stimulus.particles.size();
@@ -332,18 +377,23 @@ class HeartModel {
     ep.activation_threshold = ttp ? Real(-40) : dimensionless ? Real(0.5) : Real(-30);
     return ep;
   }
-  /// A Purkinje surrogate: every LV and RV endocardial particle is paced at t_i = d_i / v_P after the
-  /// beat's origin, with d_i its distance from the LV apex and v_P = purkinje_velocity. The network
-  /// that spreads the beat over the endocardium (Durrer et al. 1970, Circulation 41:899: the human
-  /// ventricles activate in 60-80 ms from a few endocardial sites) is not resolved; the tissue
-  /// conducts from the endocardium outwards. The pulses of particles whose onsets fall in the same
-  /// splitting step share one stimulus region.
-  void endocardial_stimuli(const HeartParameters& p, cardio::Monodomain<3>::Settings& ep) {
+  /// A Purkinje surrogate: every LV and RV endocardial particle is paced at
+  ///   t_i = min_k (t_k + |x_i - c_k| / v_P)
+  /// after the beat's origin, over the early-activation sites c_k with their times t_k (by default the
+  /// LV apex at 0) and v_P = purkinje_velocity. The network that spreads the beat over the
+  /// endocardium (Durrer et al. 1970, Circulation 41:899: the human ventricles activate in 60-80 ms
+  /// from a few endocardial sites) is not resolved; the tissue conducts from the endocardium
+  /// outwards. The pulses of particles whose onsets fall in the same splitting step share one
+  /// stimulus region.
+  void endocardial_stimuli(const HeartParameters& p, const cardio::HeartGeometry& g, cardio::Monodomain<3>::Settings& ep) {
+    early = early_activation_sites(p, g);
     const double bin = double(p.monodomain.time_step);
     std::map<long, cardio::Monodomain<3>::StimulusRegion> regions;
     for (std::size_t i = 0; i < n(); ++i) {
       if (labels[i] != cardio::label_lv_endo && labels[i] != cardio::label_rv_endo) continue;
-      const double delay = double((body.position[i] - stimulus_centre).norm()) / p.purkinje_velocity;
+      double delay = std::numeric_limits<double>::infinity();
+      for (const auto& site : early)
+        delay = std::min(delay, site.time + double((body.position[i] - site.position).norm()) / p.purkinje_velocity);
       auto& region = regions[std::lround(delay / bin)];
       region.particles.push_back(i);
     }
@@ -357,6 +407,60 @@ class HeartModel {
       stimulated += region.particles.size();
       ep.stimuli.push_back(std::move(region));
     }
+  }
+  /// The early-activation sites: the LV apex at 0; a list; or the Durrer preset, four endocardial
+  /// sites after Durrer et al. 1970, placed by the LDRB apico-basal coordinate a (0 apex, 1 base;
+  /// the bands below are fractions of the range of a over each endocardium) and the heart's frame (long axis, LV-to-RV direction r, and the anterior direction of a heart
+  /// placed in the body as for the 12-lead ECG, cardio/pseudo_ecg.hpp):
+  ///   LV anterior paraseptal, high (a in [0.7, 0.9], towards r + anterior), 0 ms;
+  ///   LV central septal (a in [0.4, 0.6], towards r), 0 ms;
+  ///   LV posterior paraseptal, a third from apex to base (a in [0.23, 0.43], towards r - anterior), 0 ms;
+  ///   RV anterior free wall near the anterior papillary muscle (a in [0.4, 0.6], anterior), 5 ms
+  /// (Durrer: the three LV areas are excited 0-5 ms after the onset, the RV 5-10 ms).
+  std::vector<EarlySite> early_activation_sites(const HeartParameters& p, const cardio::HeartGeometry& g) const {
+    if (p.early_sites == "lv_apex") return {{stimulus_centre, 0}};
+    if (p.early_sites == "list") return parse_early_sites(p.early_site_list);
+    const auto& a = g.fibres.apicobasal;
+    if (a.size() != n())
+      throw sph::ParameterError("parameter 'early_sites' = durrer places its sites by the apico-basal coordinate of "
+                                "fibres = ldrb");
+    Vec3 c_lv = Vec3::Zero(), c_rv = Vec3::Zero();
+    std::size_t n_lv = 0, n_rv = 0;
+    for (std::size_t i = 0; i < n(); ++i) {
+      if (labels[i] == cardio::label_lv_endo) c_lv += body.position[i], ++n_lv;
+      if (labels[i] == cardio::label_rv_endo) c_rv += body.position[i], ++n_rv;
+    }
+    if (n_lv == 0 || n_rv == 0) throw sph::ParameterError("parameter 'early_sites' = durrer needs labelled LV and RV endocardia");
+    c_lv /= Real(n_lv);
+    c_rv /= Real(n_rv);
+    const Vec3 apex = -g.base_normal.cast<Real>().normalized();
+    const Vec3 r = (c_rv - c_lv - (c_rv - c_lv).dot(apex) * apex).normalized();
+    const Vec3 normal = apex.cross(r);
+    // The body's anterior direction in the heart frame (apex (1,1,-1)/sqrt3, RV (-1,1,0)/sqrt2 in
+    // body axes left, anterior, superior), without its long-axis part.
+    const Vec3 anterior = (Real(std::sqrt(0.5)) * r + Real(std::sqrt(1.0 / 6.0)) * normal).normalized();
+    // Bands of a are taken over each endocardium's own range of a (the RV endocardium does not
+    // reach the apex).
+    auto site = [&](cardio::SurfaceLabel label, double lo, double hi, const Vec3& towards, const Vec3& centre, double time,
+                    const char* name) {
+      double a_min = std::numeric_limits<double>::infinity(), a_max = -a_min;
+      for (std::size_t i = 0; i < n(); ++i)
+        if (labels[i] == label) a_min = std::min(a_min, a[i]), a_max = std::max(a_max, a[i]);
+      const double from = a_min + lo * (a_max - a_min), to = a_min + hi * (a_max - a_min);
+      std::optional<std::size_t> best;
+      for (std::size_t i = 0; i < n(); ++i)
+        if (labels[i] == label && a[i] >= from && a[i] <= to &&
+            (!best || (body.position[i] - centre).dot(towards) > (body.position[*best] - centre).dot(towards)))
+          best = i;
+      if (!best)
+        throw sph::ParameterError(std::string("parameter 'early_sites' = durrer: no endocardial particle for the ") + name +
+                                  " site");
+      return EarlySite{body.position[*best], time};
+    };
+    return {site(cardio::label_lv_endo, 0.7, 0.9, (r + anterior).normalized(), c_lv, 0, "LV anterior paraseptal"),
+            site(cardio::label_lv_endo, 0.4, 0.6, r, c_lv, 0, "LV septal"),
+            site(cardio::label_lv_endo, 0.23, 0.43, (r - anterior).normalized(), c_lv, 0, "LV posterior paraseptal"),
+            site(cardio::label_rv_endo, 0.4, 0.6, anterior, c_rv, 5, "RV anterior")};
   }
   /// Aliev-Panfilov with the Nash-Panfilov parameters in its own units (V = u, t = tau), as the
   /// SPHinXsys heart case runs it (../shared/PARITY.md).
@@ -764,6 +868,14 @@ class HeartScene final : public Scene {
     p.add("purkinje_velocity", p_.purkinje_velocity, "mm/ms",
           "stimulus_site = endocardium: speed at which the pacing spreads from the LV apex over the endocardia "
           "(Purkinje fibres conduct at 2-4 m/s)", sph::Range::positive());
+    p.add_choice("early_sites", p_.early_sites, {"lv_apex", "durrer", "list"},
+                 "stimulus_site = endocardium: the surrogate spreads from the LV apex, from the four endocardial sites of "
+                 "Durrer et al. 1970 (LV anterior and posterior paraseptal, LV septal at 0 ms, RV anterior at 5 ms), or "
+                 "from early_site_list");
+    p.add_text("early_site_list", p_.early_site_list, "early-activation sites x,y,z@t;... [mm, ms] for early_sites = list");
+    p.add("endocardial_conduction", p_.endocardial_conduction, "1",
+          "factor on D of the endocardial particles: a fast endocardial layer standing for the Purkinje network (1: none)",
+          sph::Range::positive());
     p.add_vector("stimulus_point", p_.stimulus_point, "mm", "stimulus centre x,y,z for stimulus_site = point", true);
     p.add_vector("stimulus_box_min", p_.stimulus_box_min, "mm", "lowest corner x,y,z of the box for stimulus_site = box", true);
     p.add_vector("stimulus_box_max", p_.stimulus_box_max, "mm", "highest corner x,y,z of the box for stimulus_site = box", true);
@@ -857,6 +969,7 @@ class HeartScene final : public Scene {
     if (p_.stimulus_duration >= p_.cycle_length)
       throw sph::ParameterError("parameter 'stimulus_duration' must be shorter than 'cycle_length'");
     if (p_.ecg.mode == "electrodes") (void)parse_electrodes(p_.ecg.electrodes);
+    if (p_.early_sites == "list") (void)parse_early_sites(p_.early_site_list);
     const auto cells = cell_heterogeneity(p_.cells);
     if (p_.cell_model != CellModel::ten_tusscher_panfilov &&
         (cells.transmural || cells.needs_coordinates() || !cells.scalings.empty() || !cells.drugs.empty() ||
@@ -917,21 +1030,23 @@ class HeartScene final : public Scene {
   HeartParameters p_;
 };
 
-/// activation_map.csv (reference x, y, z, first activation time and, with the maps, the latest APD)
-/// and activation_map.png, the particles coloured by their activation time.
-void write_activation_map(const std::filesystem::path& folder, const HeartModel& heart) {
+/// activation_map.csv (reference x, y, z, first activation time after the first stimulus at
+/// `origin`, -1 where not activated, and with the maps the latest APD) and activation_map.png, the
+/// particles coloured by their activation time.
+void write_activation_map(const std::filesystem::path& folder, const HeartModel& heart, double origin) {
   const auto activation = heart.body.field(heart.monodomain.activation_field());
   const auto* maps = heart.monodomain.maps();
   std::ostringstream csv;
   csv << "x,y,z,activation_time" << (maps ? "," + maps->apd_name() : "") << '\n';
   for (std::size_t i = 0; i < heart.n(); ++i) {
-    csv << heart.X[i][0] << ',' << heart.X[i][1] << ',' << heart.X[i][2] << ',' << activation[i];
+    csv << heart.X[i][0] << ',' << heart.X[i][1] << ',' << heart.X[i][2] << ','
+        << (activation[i] >= 0 ? double(activation[i]) - origin : -1.0);
     if (maps) csv << ',' << heart.body.field(maps->apd_field())[i];
     csv << '\n';
   }
   sph::write_file_atomically(folder / "activation_map.csv", csv.str());
   plot_scatter(folder, {"activation_map.csv", "activation_map.png", "first activation (mesh coordinates)",
-                        "activation time [ms]", 4, 60, 30});
+                        "activation time after the first stimulus [ms]", 4, 60, 30});
 }
 
 /// The electrodes of the pseudo-ECG: the 12-lead set placed by the heart's frame (its centre, the
@@ -1006,7 +1121,7 @@ void HeartScene::run(RunContext& ctx) {
   // wave and QT interval.
   if (ecg) ecg->finish(ctx.output_dir, r, EcgRecorder::Beat{beat_origin(p_), p_.cycle_length, 150});
   if (heart.monodomain.maps()) r.results["maps"] = ep_map_summary(heart.monodomain);
-  write_activation_map(ctx.output_dir, heart);
+  write_activation_map(ctx.output_dir, heart, beat_origin(p_));
   if (circulation) {
     circulation->report(r);
     circulation->plot(ctx.output_dir);
@@ -1015,6 +1130,9 @@ void HeartScene::run(RunContext& ctx) {
   r.results["geometry_from_cache"] = g.from_cache;
   r.results["fixed_base_particles"] = heart.base.size();
   r.results["stimulated_particles"] = heart.stimulated;
+  for (const auto& site : heart.early)
+    r.results["early_activation_sites"].push_back(
+        {{"position_mm", {site.position[0], site.position[1], site.position[2]}}, {"time_ms", site.time}});
   // The cell groups, with the median APD of each (the gradient across the wall with layers).
   const auto* maps = heart.monodomain.maps();
   for (std::size_t k = 0; k < heart.cell_groups.names.size(); ++k) {

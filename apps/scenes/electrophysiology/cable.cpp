@@ -70,7 +70,7 @@ class CableScene final : public Scene {
 
     // One cell type, with the scalings, drug block and population member applied.
     const auto cell = std::get<sph::TenTusscherPanfilov2006>(
-        cardio::ten_tusscher_groups(cell_heterogeneity(p_.cells), body.n_particles(), {}, {}, {}, {}).models.at(0));
+        cardio::ten_tusscher_groups(cell_heterogeneity(p_.cells), body.n_particles(), {}, {}, {}).models.at(0));
     cardio::Monodomain<3>::Settings settings;
     settings.cell_model = cell;
     settings.diffusion_tensor = {sph::transversely_isotropic_tensor<3>(D_l, D_t, Vec3(1, 0, 0))};
