@@ -31,12 +31,7 @@ class CableScene final : public Scene {
     p.add("resolution", p_.resolution, "-", "particles across the width: dx = width / resolution", sph::Range::closed(1, 1000));
     p.add("end_time", p_.end_time, "ms", "simulated time (0: one pacing period after the protocol's last pulse)",
           sph::Range::non_negative());
-    p.add("sigma_il", p_.sigma_il, "S/m", "intracellular conductivity along the fibres", sph::Range::positive());
-    p.add("sigma_it", p_.sigma_it, "S/m", "intracellular conductivity across the fibres", sph::Range::positive());
-    p.add("sigma_el", p_.sigma_el, "S/m", "extracellular conductivity along the fibres", sph::Range::positive());
-    p.add("sigma_et", p_.sigma_et, "S/m", "extracellular conductivity across the fibres", sph::Range::positive());
-    p.add("surface_to_volume", p_.surface_to_volume, "1/mm", "membrane surface-to-volume ratio chi", sph::Range::positive());
-    p.add("capacitance", p_.capacitance, "uF/mm^2", "membrane capacitance C_m", sph::Range::positive());
+    declare_parameters(p, p_.tissue);
     p.add("stimulus_current", p_.stimulus_current, "uA/mm^3", "stimulus current density", sph::Range::positive());
     p.add("stimulus_duration", p_.stimulus_duration, "ms", "length of each pulse", sph::Range::positive());
     p.add("stimulus_length", p_.stimulus_length, "mm", "the particles with x below this are stimulated",
@@ -61,11 +56,9 @@ class CableScene final : public Scene {
     const Real h = static_cast<Real>(p_.numerics.discretisation.smoothing_length_ratio) * dx;
     const auto relation = sph::build_inner_relation<3>(body.position, kernel, h);
 
-    const double sigma_l = p_.sigma_il * p_.sigma_el / (p_.sigma_il + p_.sigma_el);
-    const double sigma_t = p_.sigma_it * p_.sigma_et / (p_.sigma_it + p_.sigma_et);
-    const Real D_l = cardio::monodomain_diffusivity(sigma_l, p_.surface_to_volume, p_.capacitance);
-    const Real D_t = cardio::monodomain_diffusivity(sigma_t, p_.surface_to_volume, p_.capacitance);
-    const double strength = p_.stimulus_current / (p_.surface_to_volume * p_.capacitance);  // mV/ms
+    // Monodomain conductivity: harmonic mean sigma_i sigma_e / (sigma_i + sigma_e), then D = sigma / (chi C_m).
+    const auto [D_l, D_t] = p_.tissue.diffusivities();
+    const double strength = p_.tissue.stimulus_rate(p_.stimulus_current);  // mV/ms
     const PacingPlan pacing = pacing_plan(p_.pacing, p_.stimulus_duration, strength);
 
     // One cell type, with the scalings, drug block and population member applied.
@@ -106,8 +99,8 @@ class CableScene final : public Scene {
     plan.before_run = [&](sph::RunHarness& run) {
       if (p_.ecg.mode == "none") return;
       EcgParameters e = p_.ecg;
-      e.surface_to_volume = p_.surface_to_volume;
-      e.capacitance = p_.capacitance;
+      e.surface_to_volume = p_.tissue.surface_to_volume;
+      e.capacitance = p_.tissue.capacitance;
       EcgRecorder::Source source{[&] { return std::span<const Real>(body.field(monodomain.potential_field())); },
                                  [&] { return std::span<const sph::Mat<3>>(monodomain.diffusion_tensor()); },
                                  [&] { return std::span<const Vec3>(body.position); },

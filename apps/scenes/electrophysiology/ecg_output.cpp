@@ -1,5 +1,6 @@
 #include "apps/scenes/electrophysiology/ecg_output.hpp"
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -10,13 +11,15 @@
 namespace cardiosph {
 
 void declare_parameters(sph::Parameters& p, EcgParameters& ecg, std::vector<std::string> modes, bool tissue_parameters) {
+  const bool twelve = std::find(modes.begin(), modes.end(), "twelve_lead") != modes.end();
   modes.push_back("electrodes");
   modes.push_back("none");
   p.add_choice("ecg", ecg.mode, modes,
-               "pseudo-ECG written to ecg.csv and ecg.png: the standard 12 leads from electrodes placed around the heart "
-               "(twelve_lead), the potentials at ecg_electrodes, or none");
+               std::string("pseudo-ECG written to ecg.csv and ecg.png: ") +
+                   (twelve ? "the standard 12 leads from electrodes placed around the heart (twelve_lead), " : "") +
+                   "the potentials at ecg_electrodes, or none");
   p.add_text("ecg_electrodes", ecg.electrodes, "electrodes for ecg = electrodes, as name:x,y,z;name:x,y,z in mm (mesh coordinates)");
-  if (std::find(modes.begin(), modes.end(), "twelve_lead") != modes.end()) {
+  if (twelve) {
     p.add("ecg_chest_radius", ecg.chest_radius, "mm", "distance of the precordial electrodes V1-V6 from the heart centre",
           sph::Range::positive());
     p.add("ecg_limb_distance", ecg.limb_distance, "mm", "distance of the limb electrodes RA, LA, LL from the heart centre",

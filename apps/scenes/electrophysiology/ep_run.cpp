@@ -17,6 +17,21 @@ void declare_ep_numerics(sph::Parameters& p, EpSceneNumerics& n, const std::stri
         sph::Range{0, 100, false, true});
 }
 
+std::pair<sph::Real, sph::Real> TissueProperties::diffusivities() const {
+  const double sigma_l = sigma_il * sigma_el / (sigma_il + sigma_el), sigma_t = sigma_it * sigma_et / (sigma_it + sigma_et);
+  return {cardio::monodomain_diffusivity(sigma_l, surface_to_volume, capacitance),
+          cardio::monodomain_diffusivity(sigma_t, surface_to_volume, capacitance)};
+}
+
+void declare_parameters(sph::Parameters& p, TissueProperties& t) {
+  p.add("sigma_il", t.sigma_il, "S/m", "intracellular conductivity along the fibres", sph::Range::positive());
+  p.add("sigma_it", t.sigma_it, "S/m", "intracellular conductivity across the fibres", sph::Range::positive());
+  p.add("sigma_el", t.sigma_el, "S/m", "extracellular conductivity along the fibres", sph::Range::positive());
+  p.add("sigma_et", t.sigma_et, "S/m", "extracellular conductivity across the fibres", sph::Range::positive());
+  p.add("surface_to_volume", t.surface_to_volume, "1/mm", "membrane surface-to-volume ratio chi", sph::Range::positive());
+  p.add("capacitance", t.capacitance, "uF/mm^2", "membrane capacitance C_m", sph::Range::positive());
+}
+
 template <int Dim>
 EpTraces run_monodomain(cardio::Monodomain<Dim>& monodomain, sph::ParticleSet<Dim>& body,
                         const sph::NeighbourList<Dim>& relation, const sph::PointProbes<Dim>& probes,

@@ -28,6 +28,22 @@ struct EpSceneNumerics {
 
 void declare_ep_numerics(sph::Parameters& p, EpSceneNumerics& n, const std::string& time_unit);
 
+/// The bidomain conductivities and the membrane of a tissue, for the monodomain (defaults: the
+/// values of Niederer et al. 2011).
+struct TissueProperties {
+  double sigma_il = 0.17, sigma_it = 0.019, sigma_el = 0.62, sigma_et = 0.24;  ///< [S/m]
+  double surface_to_volume = 140;  ///< chi [1/mm]
+  double capacitance = 0.01;       ///< C_m [uF/mm^2]
+  /// D along and across the fibres [mm^2/ms]: the harmonic means sigma_i sigma_e / (sigma_i + sigma_e)
+  /// over chi C_m.
+  std::pair<sph::Real, sph::Real> diffusivities() const;
+  /// The applied dV/dt [mV/ms] of a stimulus current density [uA/mm^3]: I / (chi C_m).
+  double stimulus_rate(double current) const { return current / (surface_to_volume * capacitance); }
+};
+
+/// Declares sigma_il, sigma_it, sigma_el, sigma_et, surface_to_volume and capacitance.
+void declare_parameters(sph::Parameters& p, TissueProperties& t);
+
 struct EpRunPlan {
   std::string scene;                     ///< name shown in the progress line
   double end_time = 0;

@@ -54,9 +54,7 @@ struct NiedererSlabParameters {
   double end_time = 250;    ///< the run stops earlier once every particle has been activated [ms]
   bool stop_when_activated = true;
   PacingParameters pacing;
-  double sigma_il = 0.17, sigma_it = 0.019, sigma_el = 0.62, sigma_et = 0.24;  ///< [S/m]
-  double surface_to_volume = 140;   ///< chi [1/mm]
-  double capacitance = 0.01;        ///< C_m [uF/mm^2]
+  TissueProperties tissue;
   double stimulus_current = 50;     ///< [uA/mm^3] (50,000 uA/cm^3)
   double stimulus_duration = 2;     ///< [ms]
   double stimulus_size = 1.5;       ///< side of the stimulated corner cube [mm]
@@ -68,9 +66,7 @@ struct CableParameters {
   double length = 10, width = 0.5;  ///< [mm]
   long resolution = 2;              ///< particles across the width (dx = 0.25 mm)
   double end_time = 0;              ///< [ms]; 0: the protocol's
-  double sigma_il = 0.17, sigma_it = 0.019, sigma_el = 0.62, sigma_et = 0.24;  ///< [S/m]
-  double surface_to_volume = 140;   ///< chi [1/mm]
-  double capacitance = 0.01;        ///< C_m [uF/mm^2]
+  TissueProperties tissue;
   double stimulus_current = 50;     ///< [uA/mm^3]
   double stimulus_duration = 2;     ///< [ms]
   double stimulus_length = 1;       ///< [mm] stimulated from x = 0

@@ -38,12 +38,7 @@ class NiedererSlabScene final : public Scene {
           sph::Range::positive());
     p.add("stop_when_activated", p_.stop_when_activated,
           "end the run once every particle is activated (false: run to end_time, e.g. for the APD map)");
-    p.add("sigma_il", p_.sigma_il, "S/m", "intracellular conductivity along the fibres", sph::Range::positive());
-    p.add("sigma_it", p_.sigma_it, "S/m", "intracellular conductivity across the fibres", sph::Range::positive());
-    p.add("sigma_el", p_.sigma_el, "S/m", "extracellular conductivity along the fibres", sph::Range::positive());
-    p.add("sigma_et", p_.sigma_et, "S/m", "extracellular conductivity across the fibres", sph::Range::positive());
-    p.add("surface_to_volume", p_.surface_to_volume, "1/mm", "membrane surface-to-volume ratio chi", sph::Range::positive());
-    p.add("capacitance", p_.capacitance, "uF/mm^2", "membrane capacitance C_m", sph::Range::positive());
+    declare_parameters(p, p_.tissue);
     p.add("stimulus_current", p_.stimulus_current, "uA/mm^3", "stimulus current density (50 = 50,000 uA/cm^3)",
           sph::Range::non_negative());
     p.add("stimulus_duration", p_.stimulus_duration, "ms", "stimulus duration", sph::Range::positive());
@@ -67,10 +62,7 @@ class NiedererSlabScene final : public Scene {
     const auto relation = sph::build_inner_relation<3>(body.position, kernel, h);
 
     // Monodomain conductivity: harmonic mean sigma_i sigma_e / (sigma_i + sigma_e), then D = sigma / (chi C_m).
-    const double sigma_l = p_.sigma_il * p_.sigma_el / (p_.sigma_il + p_.sigma_el);
-    const double sigma_t = p_.sigma_it * p_.sigma_et / (p_.sigma_it + p_.sigma_et);
-    const Real D_l = cardio::monodomain_diffusivity(sigma_l, p_.surface_to_volume, p_.capacitance);
-    const Real D_t = cardio::monodomain_diffusivity(sigma_t, p_.surface_to_volume, p_.capacitance);
+    const auto [D_l, D_t] = p_.tissue.diffusivities();
     cardio::Monodomain<3>::Settings settings;
     settings.cell_model = sph::TenTusscherPanfilov2006{};
     settings.diffusion_tensor = {sph::transversely_isotropic_tensor<3>(D_l, D_t, Vec3(1, 0, 0))};
@@ -81,7 +73,7 @@ class NiedererSlabScene final : public Scene {
     std::vector<std::size_t> stimulated;
     for (std::size_t i = 0; i < body.n_particles(); ++i)
       if ((body.position[i].array() < size).all()) stimulated.push_back(i);
-    const double strength = p_.stimulus_current / (p_.surface_to_volume * p_.capacitance);  // mV/ms
+    const double strength = p_.tissue.stimulus_rate(p_.stimulus_current);  // mV/ms
     const PacingPlan pacing = pacing_plan(p_.pacing, p_.stimulus_duration, strength);
     settings.stimuli = {{"corner cube", stimulated, pacing.stimulus}};
     settings.numerics = p_.numerics.monodomain;
