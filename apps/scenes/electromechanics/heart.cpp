@@ -891,11 +891,7 @@ class HeartScene final : public Scene {
     p.add("cycle_length", p_.cycle_length, "ms", "pacing period", sph::Range::positive());
     p.add("end_time", p_.end_time, "ms", "simulated time (0: preload_time + beats x cycle_length)", sph::Range::non_negative());
     cardio::declare_parameters(p, p_.monodomain, "ms");
-    p.add("apd_percent", p_.apd_percent, "%",
-          "action potential maps at this repolarisation percentage (fields apdNN, latest_activation_time, "
-          "repolarisation_time, diastolic_interval, max_upstroke_velocity, beats, conduction_velocity; summary in "
-          "report.json); 0: none",
-          sph::Range{0, 100, false, true});
+    declare_apd_percent(p, p_.apd_percent);
     declare_parameters(p, p_.ecg, {"twelve_lead"});
     declare_parameters(p, p_.cells, true);
     p.add("deformed_conduction", p_.coupling.deformed_conduction,
@@ -1045,6 +1041,7 @@ void write_activation_map(const std::filesystem::path& folder, const HeartModel&
     csv << '\n';
   }
   sph::write_file_atomically(folder / "activation_map.csv", csv.str());
+  if (std::none_of(activation.begin(), activation.end(), [](Real a) { return a >= 0; })) return;  // nothing to draw
   plot_scatter(folder, {"activation_map.csv", "activation_map.png", "first activation (mesh coordinates)",
                         "activation time after the first stimulus [ms]", 4, 60, 30});
 }

@@ -10,7 +10,11 @@ namespace cardiosph {
 void declare_ep_numerics(sph::Parameters& p, EpSceneNumerics& n, const std::string& time_unit) {
   declare_parameters(p, n.discretisation, time_unit);
   cardio::declare_parameters(p, n.monodomain, time_unit);
-  p.add("apd_percent", n.apd_percent, "%",
+  declare_apd_percent(p, n.apd_percent);
+}
+
+void declare_apd_percent(sph::Parameters& p, double& percent) {
+  p.add("apd_percent", percent, "%",
         "action potential maps at this repolarisation percentage (fields apdNN, latest_activation_time, "
         "repolarisation_time, diastolic_interval, max_upstroke_velocity, beats, conduction_velocity; summary in "
         "report.json); 0: none",

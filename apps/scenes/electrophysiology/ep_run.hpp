@@ -28,6 +28,9 @@ struct EpSceneNumerics {
 
 void declare_ep_numerics(sph::Parameters& p, EpSceneNumerics& n, const std::string& time_unit);
 
+/// Declares apd_percent, the repolarisation percentage of the action potential maps (0: none).
+void declare_apd_percent(sph::Parameters& p, double& percent);
+
 /// The bidomain conductivities and the membrane of a tissue, for the monodomain (defaults: the
 /// values of Niederer et al. 2011).
 struct TissueProperties {
