@@ -13,6 +13,10 @@
 namespace sph {
 
 struct StimulusProtocol {
+  StimulusProtocol() = default;
+  StimulusProtocol(double start_, double duration_, double strength_, double period_ = 0, int count_ = 1)
+      : start(start_), duration(duration_), strength(strength_), period(period_), count(count_) {}
+
   double start = 0;     ///< onset of the first pulse [ms]
   double duration = 1;  ///< length of each pulse [ms]
   double strength = 0;  ///< applied dV/dt during a pulse [voltage unit / ms]

@@ -57,6 +57,13 @@ enum class Preset { coarse, standard, fine, sphinxsys };
 enum class BaseCondition { springs, clamp };
 enum class PassiveLaw { holzapfel_ogden_2009, holzapfel_ogden_2009_transverse, zhang_2021 };
 
+/// The heart's pseudo-ECG: the 12 leads by default.
+EcgParameters twelve_lead_ecg() {
+  EcgParameters e;
+  e.mode = "twelve_lead";
+  return e;
+}
+
 struct HeartParameters {
   HeartGeometryParameters geometry;
   Preset preset = Preset::standard;
@@ -88,7 +95,7 @@ struct HeartParameters {
   cardio::ElectromechanicsSettings coupling;
   double apd_percent = 90;  ///< action potential maps (cardio/ep_maps.hpp); 0: none
   CellVariationParameters cells;
-  EcgParameters ecg{"twelve_lead"};
+  EcgParameters ecg = twelve_lead_ecg();
   // Active tension.
   cardio::TensionModel tension_model = cardio::TensionModel::land_2017;
   double land_reference_tension = 600;  ///< T_ref [kPa] (calibrated, docs/electromechanics.md)

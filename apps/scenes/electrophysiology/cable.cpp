@@ -94,7 +94,7 @@ class CableScene final : public Scene {
     const sph::PointProbes<3> probes(points, body.position, body.volume, kernel, h);
     const double end_time = p_.end_time > 0 ? p_.end_time : pacing.end_time;
     EpRunPlan plan{"cable", end_time, p_.numerics.discretisation.output_interval, 1, false, {"middle", "quarter", "three_quarters"},
-                   [&](const sph::StepInfo&) { beats.record(); }};
+                   [&](const sph::StepInfo&) { beats.record(); }, {}};
     std::optional<EcgRecorder> ecg;
     plan.before_run = [&](sph::RunHarness& run) {
       if (p_.ecg.mode == "none") return;

@@ -83,7 +83,7 @@ class NiedererSlabScene final : public Scene {
     const sph::PointProbes<3> probes(std::vector<Vec3>(points.begin(), points.end()), body.position, body.volume, kernel, h);
     EpRunPlan plan{"niederer-slab", p_.end_time, p_.numerics.discretisation.output_interval, 0.5,
                    p_.stop_when_activated,
-                   {"P1", "P2", "P3", "P4", "P5", "P6", "P7", "P8", "P9"}, {}};
+                   {"P1", "P2", "P3", "P4", "P5", "P6", "P7", "P8", "P9"}, {}, {}};
     // Per-beat records with the maps: APD at the centre P9, CV along the fibres from P5 to P7.
     std::optional<BeatRecorder<3>> beats;
     if (monodomain.maps()) {

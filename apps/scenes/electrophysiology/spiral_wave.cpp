@@ -82,7 +82,7 @@ class SpiralWaveScene final : public Scene {
     const sph::PointProbes<2> probes(observers, body.position, body.volume, kernel, h);
     double s2_onset = p_.s2_time;
     EpRunPlan plan{"spiral-wave", p_.end_time, p_.numerics.discretisation.output_interval, 0.5, false,
-                   {"lower_left", "lower_right", "upper_left", "upper_right", "centre"}, {}};
+                   {"lower_left", "lower_right", "upper_left", "upper_right", "centre"}, {}, {}};
     if (p_.s2_time <= 0) {
       // Automatic S2: once the centre has been excited by S1 and has fallen back through -70 mV.
       const auto V = body.field(monodomain.potential_field());
