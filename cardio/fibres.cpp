@@ -226,6 +226,67 @@ FibreField ldrb_fibres(const std::vector<Vec3>& positions, const std::vector<dou
   return field;
 }
 
+FibreField fibres_from_tet_mesh(const std::vector<Vec3>& positions, const geometry::TetMesh& mesh, std::size_t* outside) {
+  using Location = geometry::TetMesh::FibreLocation;
+  if (mesh.fibre_location == Location::none) throw std::invalid_argument("fibres from the mesh: the mesh has no fibres");
+  const geometry::TetLocator locator(mesh);
+  const bool sheets = !mesh.sheet.empty();
+  FibreField field;
+  field.fibre.resize(positions.size());
+  if (sheets) field.sheet.resize(positions.size());
+  std::vector<std::uint8_t> out(positions.size(), 0);
+  sph::parallel_for(positions.size(), [&](std::size_t i) {
+    const auto hit = locator.locate(positions[i]);
+    out[i] = hit.inside ? 0 : 1;
+    Vec3 f, s = Vec3::Zero();
+    if (mesh.fibre_location == Location::cells) {
+      f = mesh.fibre[hit.tet];
+      if (sheets) s = mesh.sheet[hit.tet];
+    } else {
+      // Blend with signs aligned to the first vertex's vectors.
+      const auto& v = mesh.tets[hit.tet];
+      const Vec3 f0 = mesh.fibre[v[0]], s0 = sheets ? mesh.sheet[v[0]] : Vec3::Zero();
+      f = Vec3::Zero();
+      for (std::size_t k = 0; k < 4; ++k) {
+        const Vec3& fk = mesh.fibre[v[k]];
+        f += hit.weights[k] * (fk.dot(f0) < 0 ? Vec3(-fk) : fk);
+        if (sheets) {
+          const Vec3& sk = mesh.sheet[v[k]];
+          s += hit.weights[k] * (sk.dot(s0) < 0 ? Vec3(-sk) : sk);
+        }
+      }
+    }
+    // Four fibres that cancel (a crossing of directions inside one tetrahedron): the largest weight's.
+    if (f.norm() < 1e-12) f = mesh.fibre[mesh.tets[hit.tet][std::size_t(std::max_element(hit.weights.begin(), hit.weights.end()) - hit.weights.begin())]];
+    f.normalize();
+    field.fibre[i] = f;
+    if (sheets) {
+      s -= s.dot(f) * f;
+      field.sheet[i] = s.norm() > 1e-12 ? Vec3(s.normalized()) : any_perpendicular(f);
+    }
+  });
+  if (outside) *outside = std::size_t(std::count(out.begin(), out.end(), std::uint8_t(1)));
+  return field;
+}
+
+LvEllipsoidFrame lv_ellipsoid_frame(const Vec3& p, const geometry::LvEllipsoid& lv) {
+  LvEllipsoidFrame frame;
+  const double r = std::hypot(p.x(), p.y());
+  // t with (x^2 + y^2) / rs(t)^2 + z^2 / rl(t)^2 = 1, by bisection (the left side falls with t).
+  auto level = [&](double t) {
+    const double rs = lv.endo_rs + t * (lv.epi_rs - lv.endo_rs), rl = lv.endo_rl + t * (lv.epi_rl - lv.endo_rl);
+    return r * r / (rs * rs) + p.z() * p.z() / (rl * rl) - 1;
+  };
+  double lo = -0.5, hi = 1.5;
+  for (int k = 0; k < 60; ++k) (level(0.5 * (lo + hi)) > 0 ? lo : hi) = 0.5 * (lo + hi);
+  frame.t = 0.5 * (lo + hi);
+  const double rs = lv.endo_rs + frame.t * (lv.epi_rs - lv.endo_rs), rl = lv.endo_rl + frame.t * (lv.epi_rl - lv.endo_rl);
+  frame.normal = Vec3(p.x() / (rs * rs), p.y() / (rs * rs), p.z() / (rl * rl)).normalized();
+  frame.circumferential = r > 0 ? Vec3(Vec3(-p.y(), p.x(), 0) / r) : Vec3(Vec3::UnitX());
+  frame.longitudinal = (Vec3::UnitZ() - frame.normal.z() * frame.normal).normalized();
+  return frame;
+}
+
 FibreAngleCheck check_lv_ellipsoid_fibres(const std::vector<Vec3>& positions, const FibreField& field,
                                           const geometry::LvEllipsoid& lv, const LdrbSettings& settings, double rim,
                                           double axis) {
@@ -234,23 +295,11 @@ FibreAngleCheck check_lv_ellipsoid_fibres(const std::vector<Vec3>& positions, co
   double sum = 0;
   for (std::size_t i = 0; i < positions.size(); ++i) {
     const Vec3& p = positions[i];
-    const double r = std::hypot(p.x(), p.y());
-    if (p.z() > lv.base_z - rim || r < axis) continue;
-    // t with (x^2 + y^2) / rs(t)^2 + z^2 / rl(t)^2 = 1, by bisection (the left side falls with t).
-    auto level = [&](double t) {
-      const double rs = lv.endo_rs + t * (lv.epi_rs - lv.endo_rs), rl = lv.endo_rl + t * (lv.epi_rl - lv.endo_rl);
-      return r * r / (rs * rs) + p.z() * p.z() / (rl * rl) - 1;
-    };
-    double lo = -0.5, hi = 1.5;
-    for (int k = 0; k < 60; ++k) (level(0.5 * (lo + hi)) > 0 ? lo : hi) = 0.5 * (lo + hi);
-    const double t = 0.5 * (lo + hi);
-    const double rs = lv.endo_rs + t * (lv.epi_rs - lv.endo_rs), rl = lv.endo_rl + t * (lv.epi_rl - lv.endo_rl);
-    const Vec3 normal = Vec3(p.x() / (rs * rs), p.y() / (rs * rs), p.z() / (rl * rl)).normalized();
-    const Vec3 circumferential = Vec3(-p.y(), p.x(), 0) / r;
-    const Vec3 longitudinal = (Vec3::UnitZ() - normal.z() * normal).normalized();
+    if (p.z() > lv.base_z - rim || std::hypot(p.x(), p.y()) < axis) continue;
+    const LvEllipsoidFrame frame = lv_ellipsoid_frame(p, lv);
     const double e = std::clamp(field.transmural[i], 0.0, 1.0);
     const double expected = settings.alpha_endo_deg * (1 - e) + settings.alpha_epi_deg * e;
-    double deviation = std::abs(helix_angle_deg(field.fibre[i], circumferential, longitudinal) - expected);
+    double deviation = std::abs(helix_angle_deg(field.fibre[i], frame.circumferential, frame.longitudinal) - expected);
     deviation = std::min(deviation, 180 - deviation);  // fibres have no sign
     sum += deviation;
     check.max_deg = std::max(check.max_deg, deviation);

@@ -39,6 +39,7 @@
 
 #include "geometry/heart_meshes.hpp"
 #include "geometry/shape.hpp"
+#include "geometry/tet_mesh.hpp"
 
 namespace cardio {
 
@@ -74,18 +75,36 @@ FibreField uniform_fibres(std::size_t n, const geometry::Vec3& fibre, const geom
 /// file and line on a malformed line, a zero vector or an empty file.
 FibreField fibres_from_file(const std::vector<geometry::Vec3>& positions, const std::filesystem::path& path);
 
+/// Fibres interpolated from a tetrahedral mesh (geometry/tet_mesh.hpp, checked) to the particles.
+/// Each particle takes the tetrahedron that holds it (the nearest for a particle just outside):
+/// point fibres are blended with its barycentric weights after their signs are aligned with the
+/// first vertex's (fibres have no sign), cell fibres are taken as they are; the fibre is
+/// normalised and the sheet orthogonalised against it. Without sheets in the mesh, `sheet` is
+/// left empty (the caller chooses one). `outside` (optional) receives the number of particles
+/// that lay outside every tetrahedron.
+FibreField fibres_from_tet_mesh(const std::vector<geometry::Vec3>& positions, const geometry::TetMesh& mesh,
+                                std::size_t* outside = nullptr);
+
 /// The helix angle of `fibre` [degrees, in (-90, 90]]: its angle from `circumferential` in the plane
 /// of `circumferential` and `longitudinal` (orthonormal, tangent to the wall), positive towards
 /// `longitudinal`. Fibres have no sign, so f and -f give the same angle.
 double helix_angle_deg(const geometry::Vec3& fibre, const geometry::Vec3& circumferential,
                        const geometry::Vec3& longitudinal);
 
+/// The analytic frame of the truncated ellipsoidal LV at p: the transmural coordinate t (0 on the
+/// endocardium, 1 on the epicardium) of the ellipsoid with radii interpolated between endo- and
+/// epicardium that passes through p (r_s(t) = r_s,endo + t (r_s,epi - r_s,endo), same for r_l),
+/// its outward normal, the circumferential direction (-y, x, 0)/r and the longitudinal direction
+/// (z projected orthogonally to the normal).
+struct LvEllipsoidFrame {
+  double t = 0;
+  geometry::Vec3 normal, circumferential, longitudinal;
+};
+LvEllipsoidFrame lv_ellipsoid_frame(const geometry::Vec3& p, const geometry::LvEllipsoid& lv);
+
 /// The fibre angle on the truncated ellipsoidal LV against the prescribed law
 /// alpha(e) = alpha_endo (1 - e) + alpha_epi e, with e the transmural coordinate of the field.
-/// Directions are analytic and independent of the fibre rule: circumferential (-y, x, 0)/r, wall
-/// normal n of the ellipsoid with radii interpolated between endo- and epicardium through the point
-/// (r_s(t) = r_s,endo + t (r_s,epi - r_s,endo), same for r_l), longitudinal = z projected
-/// orthogonally to n. Particles within `rim` of the base plane or within `axis` of the long axis
+/// Directions are analytic (lv_ellipsoid_frame) and independent of the fibre rule. Particles within `rim` of the base plane or within `axis` of the long axis
 /// (where the circumferential direction is undefined) are left out.
 struct FibreAngleCheck {
   double mad_deg = 0;   ///< mean absolute deviation

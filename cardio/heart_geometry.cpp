@@ -21,7 +21,7 @@ using geometry::Vec3;
 using Clock = std::chrono::steady_clock;
 
 // Version of the stage: bump when the generation, labels or fibres change, so old caches are not reused.
-constexpr const char* stage_version = "heart-geometry-2";
+constexpr const char* stage_version = "heart-geometry-3";
 constexpr char magic[8] = {'C', 'S', 'P', 'H', 'G', 'E', 'O', '1'};
 
 std::string read_bytes(const fs::path& path, const std::string& what) {
@@ -55,6 +55,7 @@ nlohmann::json settings_json(const HeartGeometrySettings& s) {
   auto vec = [](const Vec3& v) { return nlohmann::json::array({v.x(), v.y(), v.z()}); };
   return {{"version", stage_version},
           {"scale", s.scale},
+          {"surface_tags", s.surface_tags},
           {"repair", s.repair},
           {"spacing", s.spacing},
           {"relaxation_steps", s.relaxation_steps},
@@ -97,6 +98,9 @@ nlohmann::json statistics_json(const HeartGeometry& g) {
           {"seconds", {b.level_set_seconds, b.lattice_seconds, b.relaxation_seconds, b.volume_seconds}},
           {"mesh", {c.vertices, c.faces, c.components, c.volume}},
           {"label_method", g.label_method},
+          {"fibre_method", g.fibre_method},
+          {"tets", g.tets},
+          {"fibre_particles_outside", g.fibre_particles_outside},
           {"base_normal", {g.base_normal.x(), g.base_normal.y(), g.base_normal.z()}},
           {"fibre_solver", {g.fibres.solver_iterations, g.fibres.solver_seconds, g.fibres.total_seconds, g.fibres.matrix_nonzeros}}};
 }
@@ -170,6 +174,9 @@ bool load(const fs::path& file, const nlohmann::json& settings, HeartGeometry& g
     c.components = s.at("mesh")[2];
     c.volume = s.at("mesh")[3];
     g.label_method = s.at("label_method");
+    g.fibre_method = s.at("fibre_method");
+    g.tets = s.at("tets");
+    g.fibre_particles_outside = s.at("fibre_particles_outside");
     g.base_normal = Vec3(s.at("base_normal")[0], s.at("base_normal")[1], s.at("base_normal")[2]);
     g.fibres.solver_iterations = s.at("fibre_solver")[0];
     g.fibres.solver_seconds = s.at("fibre_solver")[1];
@@ -184,10 +191,60 @@ bool load(const fs::path& file, const nlohmann::json& settings, HeartGeometry& g
   return true;
 }
 
-geometry::TriangleMesh read_checked(const fs::path& path, double scale, bool repair, geometry::MeshCheckReport* report) {
-  geometry::TriangleMesh mesh = geometry::read_mesh(path, scale);
-  if (repair) mesh = geometry::repair_mesh(mesh);
-  const auto check = geometry::require_valid_mesh(mesh, path.string());
+// "epi=1,lv_endo=2": tag -> surface name.
+std::vector<std::pair<int, std::string>> parse_surface_tags(const std::string& text) {
+  std::vector<std::pair<int, std::string>> tags;
+  std::istringstream items(text);
+  for (std::string item; std::getline(items, item, ',');) {
+    item.erase(std::remove_if(item.begin(), item.end(), [](unsigned char c) { return std::isspace(c); }), item.end());
+    if (item.empty()) continue;
+    const auto eq = item.find('=');
+    std::size_t used = 0;
+    int tag = 0;
+    try {
+      if (eq != std::string::npos) tag = std::stoi(item.substr(eq + 1), &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    const std::string name = item.substr(0, eq);
+    if (eq == std::string::npos || used == 0 || used != item.size() - eq - 1)
+      throw std::invalid_argument("surface_tags '" + text + "': '" + item + "' is not name=tag (e.g. epi=1,lv_endo=2)");
+    if (label_of_surface_name(name) == label_none)
+      throw std::invalid_argument("surface_tags '" + text + "': '" + name + "' is not a surface (epi, lv_endo, rv_endo, base)");
+    tags.emplace_back(tag, name);
+  }
+  return tags;
+}
+
+}  // namespace
+
+geometry::TriangleMesh read_heart_surface(const HeartGeometrySettings& settings, geometry::TetMesh* tets) {
+  if (!geometry::is_tet_mesh_file(settings.mesh)) {
+    if (!settings.surface_tags.empty())
+      throw std::invalid_argument("surface_tags is for tetrahedral meshes; '" + settings.mesh.string() +
+                                  "' is a surface mesh (its named parts label it)");
+    geometry::TriangleMesh mesh = geometry::read_mesh(settings.mesh, settings.scale);
+    return settings.repair ? geometry::repair_mesh(mesh) : mesh;
+  }
+  const auto tags = parse_surface_tags(settings.surface_tags);
+  geometry::TetMesh volume = geometry::read_tet_mesh(settings.mesh, settings.scale);
+  geometry::check_tet_mesh(volume, settings.mesh.string());
+  geometry::TriangleMesh surface = geometry::boundary_surface(volume);
+  for (auto& name : surface.region_names)
+    for (const auto& [tag, label] : tags)
+      if (name == "tag " + std::to_string(tag)) name = label;
+  if (!tags.empty() && surface.region_names.size() == 1 && surface.region_names[0].empty())
+    throw std::invalid_argument("surface_tags: the boundary of '" + settings.mesh.string() + "' has a single tag");
+  if (tets) *tets = std::move(volume);
+  return surface;
+}
+
+namespace {
+
+geometry::TriangleMesh read_checked(const HeartGeometrySettings& settings, geometry::MeshCheckReport* report,
+                                    geometry::TetMesh* tets) {
+  const geometry::TriangleMesh mesh = read_heart_surface(settings, tets);
+  const auto check = geometry::require_valid_mesh(mesh, settings.mesh.string());
   if (report) *report = check;
   return mesh;
 }
@@ -208,8 +265,9 @@ HeartGeometry prepare_heart_geometry(const HeartGeometrySettings& settings, cons
     if (log) log(line);
   };
   if (!(settings.scale > 0)) throw std::invalid_argument("mesh scale must be positive");
-  if (settings.fibres != "ldrb" && settings.fibres != "uniform" && settings.fibres != "file" && settings.fibres != "none")
-    throw std::invalid_argument("fibres '" + settings.fibres + "': expected ldrb, uniform, file or none");
+  if (settings.fibres != "auto" && settings.fibres != "ldrb" && settings.fibres != "mesh" && settings.fibres != "uniform" &&
+      settings.fibres != "file" && settings.fibres != "none")
+    throw std::invalid_argument("fibres '" + settings.fibres + "': expected auto, ldrb, mesh, uniform, file or none");
   if (settings.fibres == "file" && settings.fibre_file.empty())
     throw std::invalid_argument("fibres = file needs a fibre file");
 
@@ -217,7 +275,10 @@ HeartGeometry prepare_heart_geometry(const HeartGeometrySettings& settings, cons
   const auto settings_text = settings_json(settings);
   Hash hash;
   hash.add(settings_text.dump());
-  hash.add(read_bytes(settings.mesh, "mesh"));
+  if (const auto files = geometry::tet_mesh_files(settings.mesh); !files.empty())
+    for (const auto& file : files) hash.add(read_bytes(file, "mesh"));
+  else
+    hash.add(read_bytes(settings.mesh, "mesh"));
   for (const auto* p : {&settings.epi_surface, &settings.lv_surface, &settings.rv_surface, &settings.base_surface})
     if (!p->empty()) hash.add(read_bytes(*p, "surface mesh"));
   if (settings.fibres == "file") hash.add(read_bytes(settings.fibre_file, "fibre file"));
@@ -233,7 +294,16 @@ HeartGeometry prepare_heart_geometry(const HeartGeometrySettings& settings, cons
 
   // Mesh.
   say("geometry: reading and checking " + settings.mesh.string());
-  const auto mesh = read_checked(settings.mesh, settings.scale, settings.repair, &g.mesh_check);
+  geometry::TetMesh tets;
+  const auto mesh = read_checked(settings, &g.mesh_check, &tets);
+  g.tets = tets.n_tets();
+  if (g.tets) say("geometry: " + std::to_string(g.tets) + " tetrahedra, boundary of " + std::to_string(mesh.n_faces()) + " faces");
+  const bool mesh_fibres = tets.fibre_location != geometry::TetMesh::FibreLocation::none;
+  std::string fibres = settings.fibres;
+  if (fibres == "auto") fibres = mesh_fibres ? "mesh" : "ldrb";
+  if (fibres == "mesh" && !mesh_fibres)
+    throw std::invalid_argument("fibres = mesh but '" + settings.mesh.string() + "' has no fibre array" +
+                                (g.tets ? "" : " (it is a surface mesh)"));
   const geometry::MeshShape shape(mesh, true, settings.mesh.filename().string());
 
   // Particles.
@@ -309,7 +379,8 @@ HeartGeometry prepare_heart_geometry(const HeartGeometrySettings& settings, cons
       g.base_normal = faces.base_normal;
     } catch (const geometry::MeshError& error) {
       // Only the rule-based fibres need the labels; other geometries (a slab, a cube) go without.
-      if (settings.fibres == "ldrb") throw;
+      // Tags named by the user must label the surface.
+      if (fibres == "ldrb" || !settings.surface_tags.empty()) throw;
       g.labels.assign(g.body.size(), label_none);
       g.label_method = std::string("none (") + error.what() + ")";
       say("geometry: no surface labels: " + std::string(error.what()));
@@ -319,14 +390,39 @@ HeartGeometry prepare_heart_geometry(const HeartGeometrySettings& settings, cons
 
   // Fibres.
   const std::size_t n = g.body.size();
-  if (settings.fibres == "ldrb") {
+  if (fibres == "ldrb") {
     say("geometry: LDRB fibres (4 Laplace solves)");
     g.fibres = ldrb_fibres(g.body.positions, g.body.volumes, g.labels, g.base_normal, settings.spacing, settings.ldrb);
-  } else if (settings.fibres == "uniform") {
+  } else if (fibres == "mesh") {
+    const bool on_points = tets.fibre_location == geometry::TetMesh::FibreLocation::points;
+    say(std::string("geometry: fibres interpolated from the mesh's ") + (on_points ? "points" : "elements"));
+    FibreField from_mesh = fibres_from_tet_mesh(g.body.positions, tets, &g.fibre_particles_outside);
+    // The LDRB coordinates (transmural, apico-basal) serve the cell variants and the early
+    // activation sites, and give the sheet when the mesh has none; they need the surface labels.
+    try {
+      g.fibres = ldrb_fibres(g.body.positions, g.body.volumes, g.labels, g.base_normal, settings.spacing, settings.ldrb);
+    } catch (const std::invalid_argument& error) {
+      say(std::string("geometry: no LDRB coordinates: ") + error.what());
+      g.fibres = FibreField{};
+    }
+    if (from_mesh.sheet.empty()) {
+      from_mesh.sheet.resize(n);
+      for (std::size_t i = 0; i < n; ++i) {
+        const Vec3& f = from_mesh.fibre[i];
+        Vec3 s = g.fibres.sheet.empty() ? Vec3::Zero() : Vec3(g.fibres.sheet[i] - g.fibres.sheet[i].dot(f) * f);
+        if (s.norm() < 1e-9) s = f.unitOrthogonal();
+        from_mesh.sheet[i] = s.normalized();
+      }
+    }
+    g.fibres.fibre = std::move(from_mesh.fibre);
+    g.fibres.sheet = std::move(from_mesh.sheet);
+  } else if (fibres == "uniform") {
     g.fibres = uniform_fibres(n, settings.uniform_fibre, settings.uniform_sheet);
-  } else if (settings.fibres == "file") {
+  } else if (fibres == "file") {
     g.fibres = fibres_from_file(g.body.positions, settings.fibre_file);
   }
+  g.fibre_method = fibres == "mesh" ? (tets.fibre_location == geometry::TetMesh::FibreLocation::points ? "mesh (points)" : "mesh (cells)")
+                                    : fibres;
   if (!cache_file.empty()) store(g, settings_text, cache_file);
   g.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return g;

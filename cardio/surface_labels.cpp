@@ -30,15 +30,6 @@ std::string lower(std::string s) {
   return s;
 }
 
-SurfaceLabel label_of_region(const std::string& name) {
-  static const std::map<std::string, SurfaceLabel> names{
-      {"epi", label_epi},           {"epicardium", label_epi},          {"lv_endo", label_lv_endo},
-      {"lv", label_lv_endo},        {"endo_lv", label_lv_endo},         {"lv_endocardium", label_lv_endo},
-      {"rv_endo", label_rv_endo},   {"rv", label_rv_endo},              {"endo_rv", label_rv_endo},
-      {"rv_endocardium", label_rv_endo}, {"base", label_base}};
-  const auto it = names.find(lower(name));
-  return it == names.end() ? label_none : it->second;
-}
 
 // Edge-connected components of the faces with keep[f] (the mesh is welded, so shared edges are
 // shared vertex pairs).
@@ -107,6 +98,16 @@ std::pair<double, double> cavity_volume_and_area(const TriangleMesh& mesh, const
 
 }  // namespace
 
+SurfaceLabel label_of_surface_name(const std::string& name) {
+  static const std::map<std::string, SurfaceLabel> names{
+      {"epi", label_epi},           {"epicardium", label_epi},          {"lv_endo", label_lv_endo},
+      {"lv", label_lv_endo},        {"endo_lv", label_lv_endo},         {"lv_endocardium", label_lv_endo},
+      {"rv_endo", label_rv_endo},   {"rv", label_rv_endo},              {"endo_rv", label_rv_endo},
+      {"rv_endocardium", label_rv_endo}, {"base", label_base}};
+  const auto it = names.find(lower(name));
+  return it == names.end() ? label_none : it->second;
+}
+
 std::string_view surface_label_name(SurfaceLabel label) {
   switch (label) {
     case label_epi: return "epicardium";
@@ -124,7 +125,7 @@ FaceLabels face_labels_from_regions(const TriangleMesh& mesh) {
   std::vector<SurfaceLabel> region_label;
   std::string unknown;
   for (const auto& name : mesh.region_names) {
-    region_label.push_back(label_of_region(name));
+    region_label.push_back(label_of_surface_name(name));
     if (region_label.back() == label_none) unknown += (unknown.empty() ? "'" : ", '") + name + "'";
   }
   const bool any = std::any_of(region_label.begin(), region_label.end(), [](SurfaceLabel l) { return l != label_none; });

@@ -30,6 +30,10 @@ enum SurfaceLabel : std::int8_t { label_none = 0, label_epi = 1, label_lv_endo =
 
 std::string_view surface_label_name(SurfaceLabel label);
 
+/// The label a region or surface name stands for (names as in face_labels_from_regions), or
+/// label_none.
+SurfaceLabel label_of_surface_name(const std::string& name);
+
 struct FaceLabels {
   std::vector<SurfaceLabel> face;   ///< per face of the mesh
   geometry::Vec3 base_normal = geometry::Vec3::UnitZ();  ///< outward normal of the base plane

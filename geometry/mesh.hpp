@@ -74,7 +74,8 @@ MeshCheckReport require_valid_mesh(const TriangleMesh& mesh, const std::string& 
 /// consistently and outwards, fills holes. Self-intersections are not repaired.
 TriangleMesh repair_mesh(const TriangleMesh& mesh);
 
-/// Writes binary STL (.stl) or OBJ (.obj, one group per region) by extension, atomically.
+/// Writes binary STL (.stl), OBJ (.obj, one group per region) or OFF (.off, e.g. for TetGen) by
+/// extension, atomically.
 void write_mesh(const TriangleMesh& mesh, const std::filesystem::path& path);
 
 /// Faces of `mesh` whose region is `region` (vertices renumbered), e.g. to write one surface.

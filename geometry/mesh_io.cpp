@@ -353,9 +353,16 @@ void write_mesh(const TriangleMesh& mesh, const std::filesystem::path& path) {
       throw std::invalid_argument("write_mesh: face_region must give each of the " + std::to_string(mesh.faces.size()) +
                                   " faces a region below " + std::to_string(mesh.region_names.size()));
     sph::write_file_atomically(path, obj(mesh));
+  } else if (extension == ".off") {
+    std::ostringstream off;
+    off.precision(17);
+    off << "OFF\n" << mesh.vertices.size() << ' ' << mesh.faces.size() << " 0\n";
+    for (const Vec3& v : mesh.vertices) off << v.x() << ' ' << v.y() << ' ' << v.z() << '\n';
+    for (const auto& f : mesh.faces) off << "3 " << f[0] << ' ' << f[1] << ' ' << f[2] << '\n';
+    sph::write_file_atomically(path, off.str());
   } else {
     throw MeshError("write_mesh: cannot write '" + path.string() + "': extension '" + extension +
-                    "' is not .stl or .obj");
+                    "' is not .stl, .obj or .off");
   }
 }
 

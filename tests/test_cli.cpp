@@ -57,6 +57,14 @@ class Cli : public ::testing::Test {
   std::string stdout_, stderr_;
 };
 
+TEST_F(Cli, InvertedTetrahedronIsRejectedWithItsElement) {
+  // A unit cube of five tetrahedra in openCARP form, the second one inverted.
+  write("cube.pts", "8\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n0 0 1\n1 0 1\n0 1 1\n1 1 1\n");
+  const auto elem = write("cube.elem", "5\nTt 0 1 2 4 1\nTt 3 1 2 7 1\nTt 1 4 5 7 1\nTt 2 6 4 7 1\nTt 1 2 4 7 1\n");
+  expect_rejected({"particles", "--set", "mesh=" + elem.string(), "--set", "cache=none"}, "element 1 (vertices 3 1 2 7) is inverted");
+  EXPECT_NE(stderr_.find("cube.elem"), std::string::npos) << stderr_;
+}
+
 TEST_F(Cli, ListShowsTheScenes) {
   EXPECT_EQ(run({"list"}), 0);
   EXPECT_NE(stdout_.find("diffusion-aniso"), std::string::npos);

@@ -429,8 +429,8 @@ class HeartModel {
     if (p.early_sites == "list") return parse_early_sites(p.early_site_list);
     const auto& a = g.fibres.apicobasal;
     if (a.size() != n())
-      throw sph::ParameterError("parameter 'early_sites' = durrer places its sites by the apico-basal coordinate of "
-                                "fibres = ldrb");
+      throw sph::ParameterError("parameter 'early_sites' = durrer places its sites by the LDRB apico-basal coordinate, "
+                                "which needs labelled epicardium, LV endocardium and base (fibres = ldrb or mesh)");
     Vec3 c_lv = Vec3::Zero(), c_rv = Vec3::Zero();
     std::size_t n_lv = 0, n_rv = 0;
     for (std::size_t i = 0; i < n(); ++i) {

@@ -23,8 +23,13 @@ std::filesystem::path shared_mesh(const std::string& file) {
 
 void HeartGeometryParameters::declare(sph::Parameters& p) {
   auto& s = settings;
-  p.add_path("mesh", s.mesh, "closed myocardium mesh: STL (ascii or binary), OBJ or PLY");
-  p.add("scale", s.scale, "1", "multiplies the mesh coordinates (1000 for a file in metres)", sph::Range::positive());
+  p.add_path("mesh", s.mesh,
+             "myocardium: a closed surface (STL ascii or binary, OBJ, PLY) or a tetrahedral mesh (.vtu, or openCARP "
+             ".pts/.elem with an optional .lon)");
+  p.add_choice("units", units, {"um", "mm", "cm", "m"}, "length unit of the mesh files (openCARP meshes are usually in um)");
+  p.add("scale", s.scale, "1", "multiplies the mesh coordinates after the units (e.g. to shrink a heart)", sph::Range::positive());
+  p.add_text("surface_tags", s.surface_tags,
+             "names of a tetrahedral mesh's boundary tags, e.g. 'epi=1,lv_endo=2,rv_endo=3,base=4' (empty: geometric rule)");
   p.add("repair", s.repair, "repair orientation and holes instead of rejecting a bad mesh");
   if (dp_from_preset)
     p.add("dp", s.spacing, "mm", "particle spacing (0: from the preset)", sph::Range::non_negative());
@@ -35,7 +40,8 @@ void HeartGeometryParameters::declare(sph::Parameters& p) {
   p.add_path("lv_surface", s.lv_surface, "separate LV endocardial surface mesh");
   p.add_path("rv_surface", s.rv_surface, "separate RV endocardial surface mesh");
   p.add_path("base_surface", s.base_surface, "separate base surface mesh (default: the flat base found by the rule)");
-  p.add_choice("fibres", s.fibres, {"ldrb", "uniform", "file", "none"}, "fibre rule");
+  p.add_choice("fibres", s.fibres, {"auto", "ldrb", "mesh", "uniform", "file", "none"},
+               "fibre rule (auto: interpolated from a tetrahedral mesh's fibre array when it has one, else ldrb)");
   p.add("alpha_endo", s.ldrb.alpha_endo_deg, "deg", "LDRB helix angle at the endocardium", sph::Range::closed(-90, 90));
   p.add("alpha_epi", s.ldrb.alpha_epi_deg, "deg", "LDRB helix angle at the epicardium", sph::Range::closed(-90, 90));
   p.add("beta_endo", s.ldrb.beta_endo_deg, "deg", "LDRB sheet angle at the endocardium", sph::Range::closed(-90, 90));
@@ -49,6 +55,7 @@ void HeartGeometryParameters::declare(sph::Parameters& p) {
 cardio::HeartGeometrySettings HeartGeometryParameters::resolved(double preset_spacing) const {
   cardio::HeartGeometrySettings s = settings;
   if (s.spacing == 0) s.spacing = preset_spacing;
+  s.scale *= geometry::millimetres_per_unit(units);
   if (s.mesh.empty()) throw sph::ParameterError("parameter 'mesh' is empty: give a mesh file");
   require_file("mesh", s.mesh);
   require_file("epi_surface", s.epi_surface);
@@ -90,8 +97,7 @@ std::vector<cardio::SurfaceLabel> cavity_face_labels(const geometry::TriangleMes
 }
 
 geometry::TriangleMesh read_geometry_mesh(const cardio::HeartGeometrySettings& settings) {
-  auto mesh = geometry::read_mesh(settings.mesh, settings.scale);
-  return settings.repair ? geometry::repair_mesh(mesh) : mesh;
+  return cardio::read_heart_surface(settings);
 }
 
 }  // namespace cardiosph

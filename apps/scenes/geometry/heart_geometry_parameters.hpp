@@ -22,6 +22,7 @@ std::filesystem::path shared_mesh(const std::string& file);
 struct HeartGeometryParameters {
   cardio::HeartGeometrySettings settings;  ///< mesh: set by the scene; spacing is the parameter dp
   std::string cache;                       ///< folder; "" = default, "none" = no cache
+  std::string units = "mm";                ///< of the mesh files; resolved() folds it into the scale
   bool dp_from_preset = false;             ///< declare dp = 0 as "from the scene's preset"
 
   void declare(sph::Parameters& p);

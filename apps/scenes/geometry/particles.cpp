@@ -70,6 +70,9 @@ class ParticlesScene final : public Scene {
     r.results["relaxation_steps"] = g.body.relaxation_steps_done;
     r.results["neighbour_builds"] = g.body.neighbour_builds;
     r.results["label_method"] = g.label_method;
+    r.results["fibre_method"] = g.fibre_method;
+    r.results["tetrahedra"] = g.tets;
+    if (g.fibre_method.rfind("mesh", 0) == 0) r.results["fibre_particles_outside_mesh"] = g.fibre_particles_outside;
     for (auto l : {cardio::label_epi, cardio::label_lv_endo, cardio::label_rv_endo, cardio::label_base})
       r.results["labelled"][std::string(cardio::surface_label_name(l))] = std::count(g.labels.begin(), g.labels.end(), l);
     r.results["geometry_hash"] = g.hash;
@@ -86,7 +89,7 @@ class ParticlesScene final : public Scene {
     }
     std::error_code ec;
     const bool shipped_lv = std::filesystem::equivalent(settings.mesh, shipped_mesh("lv_ellipsoid.stl"), ec);
-    if (settings.fibres == "ldrb" && (fiber_check_ == "lv-ellipsoid" || (fiber_check_ == "auto" && shipped_lv))) {
+    if (!g.fibres.transmural.empty() && (fiber_check_ == "lv-ellipsoid" || (fiber_check_ == "auto" && shipped_lv))) {
       const auto check = cardio::check_lv_ellipsoid_fibres(g.body.positions, g.fibres, geometry::LvEllipsoid{}, settings.ldrb,
                                                            rim_, 2 * settings.spacing);
       r.results["fiber_angle_mad_deg"] = check.mad_deg;

@@ -1,0 +1,220 @@
+// Tetrahedral meshes in VTK XML unstructured grids (.vtu), read and written through VTK.
+
+#include "geometry/tet_mesh_vtk.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <string>
+
+#include <vtkCellData.h>
+#include <vtkCellType.h>
+#include <vtkCell.h>
+#include <vtkCellTypes.h>
+#include <vtkCommand.h>
+#include <vtkDataArray.h>
+#include <vtkDoubleArray.h>
+#include <vtkIntArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
+#include <vtkXMLUnstructuredGridWriter.h>
+
+#include "libsph/io/atomic_file.hpp"
+
+namespace geometry::detail {
+namespace {
+
+namespace fs = std::filesystem;
+
+[[noreturn]] void fail(const fs::path& path, const std::string& problem) {
+  throw MeshError("tetrahedral mesh '" + path.string() + "': " + problem);
+}
+
+// Collects VTK's error messages instead of letting them go to the terminal.
+class ErrorCollector : public vtkCommand {
+ public:
+  static ErrorCollector* New() { return new ErrorCollector; }
+  void Execute(vtkObject*, unsigned long, void* data) override {
+    if (message.empty() && data) message = static_cast<const char*>(data);
+  }
+  std::string message;
+};
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
+bool one_of(const std::string& name, std::initializer_list<const char*> names) {
+  const std::string l = lower(name);
+  return std::any_of(names.begin(), names.end(), [&](const char* n) { return l == n; });
+}
+constexpr auto fibre_names = {"fibre", "fiber", "fibres", "fibers", "f0", "fibre_direction", "fiber_direction"};
+constexpr auto sheet_names = {"sheet", "sheets", "s0", "sheet_direction"};
+constexpr auto region_names = {"region", "regions", "tag", "tags", "elemtag", "material", "gmsh:physical", "cell_region"};
+
+// The first array of `data` whose name is one of `names`, or null.
+vtkDataArray* find_array(vtkFieldData* data, std::initializer_list<const char*> names) {
+  for (int k = 0; k < data->GetNumberOfArrays(); ++k) {
+    vtkDataArray* a = data->GetArray(k);
+    if (a && a->GetName() && one_of(a->GetName(), names)) return a;
+  }
+  return nullptr;
+}
+
+std::vector<Vec3> vectors(const fs::path& path, vtkDataArray* a, const std::vector<vtkIdType>& rows, const char* what) {
+  if (a->GetNumberOfComponents() != 3)
+    fail(path, std::string(what) + " array '" + a->GetName() + "' has " + std::to_string(a->GetNumberOfComponents()) +
+                   " components, expected 3");
+  std::vector<Vec3> out;
+  out.reserve(rows.size());
+  for (vtkIdType r : rows) {
+    double v[3];
+    a->GetTuple(r, v);
+    out.emplace_back(v[0], v[1], v[2]);
+  }
+  return out;
+}
+
+}  // namespace
+
+TetMesh read_vtu_tets(const fs::path& path, double scale) {
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  vtkNew<ErrorCollector> errors;
+  reader->AddObserver(vtkCommand::ErrorEvent, errors);
+  if (!reader->CanReadFile(path.string().c_str())) fail(path, "not a VTK XML unstructured grid");
+  reader->SetFileName(path.string().c_str());
+  reader->Update();
+  if (!errors->message.empty() || reader->GetErrorCode() != 0) {
+    std::string m = errors->message;
+    m.erase(std::remove(m.begin(), m.end(), '\n'), m.end());
+    fail(path, "VTK cannot read it" + (m.empty() ? std::string() : ": " + m));
+  }
+  vtkUnstructuredGrid* grid = reader->GetOutput();
+  if (!grid || grid->GetNumberOfPoints() == 0) fail(path, "no points");
+
+  TetMesh mesh;
+  const vtkIdType n_points = grid->GetNumberOfPoints();
+  mesh.vertices.reserve(std::size_t(n_points));
+  for (vtkIdType i = 0; i < n_points; ++i) {
+    double x[3];
+    grid->GetPoint(i, x);
+    const Vec3 p(x[0], x[1], x[2]);
+    if (!p.allFinite()) fail(path, "point " + std::to_string(i) + " is not finite");
+    mesh.vertices.push_back(scale * p);
+  }
+  // Tetrahedra (linear, or the corner nodes of quadratic ones); surface and line cells are skipped,
+  // other volume cells refused.
+  std::vector<vtkIdType> tet_cells, triangle_cells;
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c) {
+    const int type = grid->GetCellType(c);
+    if (type == VTK_TETRA || type == VTK_QUADRATIC_TETRA) {
+      vtkIdType n = 0;
+      const vtkIdType* ids = nullptr;
+      grid->GetCellPoints(c, n, ids);
+      std::array<std::uint32_t, 4> t{};
+      for (int k = 0; k < 4; ++k) t[std::size_t(k)] = std::uint32_t(ids[k]);
+      mesh.tets.push_back(t);
+      tet_cells.push_back(c);
+    } else if (type == VTK_TRIANGLE) {
+      vtkIdType n = 0;
+      const vtkIdType* ids = nullptr;
+      grid->GetCellPoints(c, n, ids);
+      mesh.tagged_faces.push_back({std::uint32_t(ids[0]), std::uint32_t(ids[1]), std::uint32_t(ids[2])});
+      triangle_cells.push_back(c);
+    } else if (grid->GetCell(c)->GetCellDimension() == 3) {
+      fail(path, "cell " + std::to_string(c) + " is a " + vtkCellTypes::GetClassNameFromTypeId(type) +
+                     ": only tetrahedra are read");
+    }
+  }
+  if (mesh.tets.empty()) fail(path, "no tetrahedra");
+
+  std::vector<vtkIdType> all_points(static_cast<std::size_t>(n_points));
+  for (vtkIdType i = 0; i < n_points; ++i) all_points[std::size_t(i)] = i;
+  if (vtkDataArray* pf = find_array(grid->GetPointData(), fibre_names)) {
+    mesh.fibre_location = TetMesh::FibreLocation::points;
+    mesh.fibre = vectors(path, pf, all_points, "fibre");
+    if (vtkDataArray* s = find_array(grid->GetPointData(), sheet_names)) mesh.sheet = vectors(path, s, all_points, "sheet");
+  } else if (vtkDataArray* cf = find_array(grid->GetCellData(), fibre_names)) {
+    mesh.fibre_location = TetMesh::FibreLocation::cells;
+    mesh.fibre = vectors(path, cf, tet_cells, "fibre");
+    if (vtkDataArray* s = find_array(grid->GetCellData(), sheet_names)) mesh.sheet = vectors(path, s, tet_cells, "sheet");
+  }
+  if (vtkDataArray* r = find_array(grid->GetCellData(), region_names)) {
+    if (r->GetNumberOfComponents() != 1)
+      fail(path, std::string("region array '") + r->GetName() + "' has " + std::to_string(r->GetNumberOfComponents()) +
+                     " components, expected 1");
+    for (vtkIdType c : tet_cells) mesh.tet_region.push_back(int(r->GetComponent(c, 0)));
+    for (vtkIdType c : triangle_cells) mesh.tagged_face_region.push_back(int(r->GetComponent(c, 0)));
+  }
+  if (mesh.tagged_face_region.size() != mesh.tagged_faces.size()) mesh.tagged_faces.clear();  // untagged triangles
+  for (const auto& f : mesh.tagged_faces)
+    for (auto k : f)
+      if (k >= mesh.vertices.size()) fail(path, "a triangle refers to point " + std::to_string(k) + " beyond the points");
+  return mesh;
+}
+
+void write_vtu_tets(const TetMesh& mesh, const fs::path& path, double scale) {
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(vtkIdType(mesh.vertices.size()));
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    const Vec3 x = mesh.vertices[i] / scale;
+    points->SetPoint(vtkIdType(i), x.x(), x.y(), x.z());
+  }
+  // Tetrahedra first, then the tagged triangles; cell arrays hold zeros for the triangles.
+  const std::size_t n_triangles = mesh.tagged_faces.size(), n_cells = mesh.tets.size() + n_triangles;
+  vtkNew<vtkUnstructuredGrid> grid;
+  grid->SetPoints(points);
+  grid->Allocate(vtkIdType(n_cells));
+  for (const auto& t : mesh.tets) {
+    const vtkIdType ids[4] = {t[0], t[1], t[2], t[3]};
+    grid->InsertNextCell(VTK_TETRA, 4, ids);
+  }
+  for (const auto& f : mesh.tagged_faces) {
+    const vtkIdType ids[3] = {f[0], f[1], f[2]};
+    grid->InsertNextCell(VTK_TRIANGLE, 3, ids);
+  }
+  if (mesh.tet_region.size() == mesh.tets.size()) {
+    vtkNew<vtkIntArray> region;
+    region->SetName("region");
+    region->SetNumberOfTuples(vtkIdType(n_cells));
+    for (std::size_t t = 0; t < mesh.tets.size(); ++t) region->SetValue(vtkIdType(t), mesh.tet_region[t]);
+    for (std::size_t f = 0; f < n_triangles; ++f)
+      region->SetValue(vtkIdType(mesh.tets.size() + f), f < mesh.tagged_face_region.size() ? mesh.tagged_face_region[f] : 0);
+    grid->GetCellData()->AddArray(region);
+  }
+  const bool on_points = mesh.fibre_location == TetMesh::FibreLocation::points;
+  auto add_vectors = [&](const std::vector<Vec3>& v, const char* name) {
+    if (v.empty()) return;
+    const std::size_t rows = on_points ? v.size() : n_cells;
+    vtkNew<vtkDoubleArray> a;
+    a->SetName(name);
+    a->SetNumberOfComponents(3);
+    a->SetNumberOfTuples(vtkIdType(rows));
+    for (std::size_t i = 0; i < rows; ++i) {
+      const Vec3 x = i < v.size() ? v[i] : Vec3::Zero();
+      a->SetTuple3(vtkIdType(i), x.x(), x.y(), x.z());
+    }
+    if (on_points)
+      grid->GetPointData()->AddArray(a);
+    else
+      grid->GetCellData()->AddArray(a);
+  };
+  add_vectors(mesh.fibre, "fibre");
+  add_vectors(mesh.sheet, "sheet");
+
+  const auto temporary = sph::temporary_path_for(path);
+  vtkNew<vtkXMLUnstructuredGridWriter> writer;
+  writer->SetFileName(temporary.string().c_str());
+  writer->SetInputData(grid);
+  writer->SetDataModeToAppended();
+  writer->EncodeAppendedDataOff();
+  writer->SetCompressorTypeToZLib();
+  if (writer->Write() != 1) throw MeshError("write_tet_mesh: cannot write '" + temporary.string() + "'");
+  sph::commit_temporary(temporary, path);
+}
+
+}  // namespace geometry::detail
