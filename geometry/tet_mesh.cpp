@@ -246,6 +246,26 @@ TetMesh read_tet_mesh(const fs::path& path, double scale) {
   return mesh;
 }
 
+std::vector<std::size_t> read_vertex_list(const fs::path& path, std::size_t n_vertices) {
+  if (!fs::is_regular_file(path)) fail(path, "no such file");
+  TextLines lines(path);
+  const long n = lines.count_line();
+  std::vector<std::size_t> nodes;
+  std::vector<std::string> w;
+  while (lines.next(w)) {
+    if (nodes.empty() && w.size() == 1 && (w[0] == "intra" || w[0] == "extra")) continue;
+    if (w.size() != 1) lines.fail_here("expected one node index");
+    const double v = lines.number_at(w, 0);
+    if (v < 0 || v != std::floor(v) || v >= double(n_vertices))
+      lines.fail_here("node " + w[0] + " is not a vertex of the mesh (" + std::to_string(n_vertices) + " vertices)");
+    nodes.push_back(std::size_t(v));
+  }
+  if (long(nodes.size()) != n)
+    fail(path, "the header announces " + std::to_string(n) + " nodes but the file lists " + std::to_string(nodes.size()));
+  if (nodes.empty()) fail(path, "no nodes");
+  return nodes;
+}
+
 TetMeshCheck check_tet_mesh(TetMesh& mesh, const std::string& name) {
   auto bad = [&](const std::string& problem) { throw MeshError("tetrahedral mesh '" + name + "': " + problem); };
   TetMeshCheck check;

@@ -83,6 +83,11 @@ TetMeshCheck check_tet_mesh(TetMesh& mesh, const std::string& name);
 /// triangle, else that of the face's tetrahedron; one region "" when all faces have one tag.
 TriangleMesh boundary_surface(const TetMesh& mesh);
 
+/// Vertex indices from an openCARP .vtx file (first line the count, an optional line "intra" or
+/// "extra", then one index per line), each below `n_vertices`. Throws MeshError naming the file
+/// and line: missing file, a count that does not match, an index out of range or not an integer.
+std::vector<std::size_t> read_vertex_list(const std::filesystem::path& path, std::size_t n_vertices);
+
 /// Writes a .vtu (VTK, the fibres and sheets under "fibre" and "sheet", tags under "region") or an
 /// openCARP triple (path ending in .pts, .elem or without extension: base name; coordinates
 /// divided by `scale`, e.g. 1e-3 to write um; a .lon only for cell fibres), atomically.

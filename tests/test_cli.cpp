@@ -65,6 +65,14 @@ TEST_F(Cli, InvertedTetrahedronIsRejectedWithItsElement) {
   EXPECT_NE(stderr_.find("cube.elem"), std::string::npos) << stderr_;
 }
 
+TEST_F(Cli, UnknownMeshUnitsAreRejected) {
+  expect_rejected({"particles", "--set", "units=furlong"}, "'units' (from --set) = 'furlong': must be one of um, mm, cm, m");
+}
+TEST_F(Cli, HeartNodeStimulusNeedsATetrahedralMesh) {
+  expect_rejected({"heart", "--set", "stimulus_site=nodes", "--set", "stimulus_nodes=" + write("a.vtx", "1\n0\n").string()},
+                  "needs a tetrahedral 'mesh'");
+}
+
 TEST_F(Cli, ListShowsTheScenes) {
   EXPECT_EQ(run({"list"}), 0);
   EXPECT_NE(stdout_.find("diffusion-aniso"), std::string::npos);

@@ -11,10 +11,13 @@
 #include <map>
 #include <sstream>
 
+#include "apps/scenes/electromechanics/em_scenes.hpp"
 #include "cardio/fibres.hpp"
 #include "cardio/heart_geometry.hpp"
 #include "geometry/heart_meshes.hpp"
 #include "geometry/tet_mesh.hpp"
+#include "libsph/io/parameters.hpp"
+#include "run_scene_for_test.hpp"
 #include "temporary_folder.hpp"
 
 namespace {
@@ -425,6 +428,65 @@ TEST(TetMeshHeart, LvEllipsoidFromTetGenCarriesItsFibresToTheParticles) {
   EXPECT_LT(e_points.mean, 1.0);
   EXPECT_LT(e_points.max, 5.0);
   EXPECT_LT(e_cells.mean, 8.0);
+}
+
+// The heart scene on a biventricular mesh brought as openCARP files in um, without fibres (LDRB
+// then) and paced at a .vtx list of mesh nodes near the apex.
+TEST(TetMeshHeart, HeartRunsOnAnOpenCarpMeshPacedAtMeshNodes) {
+  const std::string tetgen = tetgen_command();
+  if (tetgen.empty()) GTEST_SKIP() << "needs TetGen: no /usr/bin/tetgen or /usr/local/bin/tetgen (Debian package tetgen)";
+  const test::TemporaryFolder folder("tets");
+  geometry::write_mesh(geometry::biventricular_mesh(geometry::Biventricular{}, 3.0), folder / "biv.off");
+  const std::string command = tetgen + " -pq1.5a30YQ " + (folder / "biv.off").string() + " > /dev/null";
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  TetMesh biv = read_tetgen(folder / "biv.1.node", folder / "biv.1.ele");
+  geometry::write_tet_mesh(biv, folder / "biv.elem", 1e-3);
+  // The nodes within 4 mm of the lowest one.
+  double z_min = 1e300;
+  for (const Vec3& v : biv.vertices) z_min = std::min(z_min, v.z());
+  std::vector<std::size_t> apex;
+  for (std::size_t v = 0; v < biv.vertices.size(); ++v)
+    if (biv.vertices[v].z() < z_min + 4) apex.push_back(v);
+  {
+    std::ofstream vtx(folder / "apex.vtx");
+    vtx << apex.size() << "\nintra\n";
+    for (auto v : apex) vtx << v << '\n';
+  }
+  auto run = [&](const std::vector<std::string>& extra) {
+    auto scene = cardiosph::make_heart_scene();
+    sph::Parameters parameters;
+    scene->declare(parameters);
+    const std::vector<std::string> common{"preset=coarse", "cache=none", "mesh=" + (folder / "biv.elem").string(),
+                                          "units=um", "end_time=2", "output_interval=0"};
+    for (const auto& a : common) parameters.set_assignment(a, "test");
+    for (const auto& a : extra) parameters.set_assignment(a, "test");
+    parameters.apply_presets();
+    parameters.check();
+    return test::run_scene(*scene, "heart_tets");
+  };
+  const auto r = run({"stimulus_site=nodes", "stimulus_nodes=" + (folder / "apex.vtx").string(), "stimulus_radius=3"});
+  EXPECT_EQ(r.status, "completed");
+  const auto particles = r.particles.begin().value().get<double>();
+  const auto stimulated = r.results.at("stimulated_particles").get<double>();
+  std::printf("[ measured ] heart on %zu tetrahedra (openCARP, um): %.0f particles, %.0f stimulated at %zu apical nodes, "
+              "fibres %s\n",
+              biv.n_tets(), particles, stimulated, apex.size(), r.results.at("fibre_method").get<std::string>().c_str());
+  EXPECT_EQ(r.results.at("fibre_method"), "ldrb");
+  EXPECT_GT(stimulated, 0);
+  EXPECT_LT(stimulated, 0.1 * particles);
+  // A node list that points past the mesh is refused, naming the file and the line.
+  {
+    std::ofstream vtx(folder / "bad.vtx");
+    vtx << "2\nintra\n0\n" << biv.vertices.size() << '\n';
+  }
+  try {
+    run({"stimulus_site=nodes", "stimulus_nodes=" + (folder / "bad.vtx").string()});
+    ADD_FAILURE() << "a node beyond the mesh was accepted";
+  } catch (const MeshError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.vtx' line 4"), std::string::npos) << e.what();
+  }
+  const auto epi = run({"stimulus_site=surface", "stimulus_surface=epi"});
+  EXPECT_GT(epi.results.at("stimulated_particles").get<double>(), stimulated);
 }
 
 }  // namespace

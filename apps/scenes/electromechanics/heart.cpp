@@ -52,7 +52,7 @@ using sph::Real;
 using Vec3 = sph::Vec<3>;
 
 enum class CellModel { aliev_panfilov, aliev_panfilov_dimensionless, ten_tusscher_panfilov };
-enum class StimulusSite { lv_apex, point, box, endocardium };
+enum class StimulusSite { lv_apex, point, box, surface, nodes, endocardium };
 enum class Preset { coarse, standard, fine, sphinxsys };
 enum class BaseCondition { springs, clamp };
 enum class PassiveLaw { holzapfel_ogden_2009, holzapfel_ogden_2009_transverse, zhang_2021 };
@@ -77,6 +77,8 @@ struct HeartParameters {
   /// because the straight distance is shorter than the paths of the network.
   double purkinje_velocity = 1.1;
   StimulusSite stimulus_site = StimulusSite::endocardium;
+  std::string stimulus_surface = "lv_endo";
+  std::filesystem::path stimulus_nodes;
   /// stimulus_site = endocardium: where the surrogate starts (lv_apex, durrer, or early_site_list).
   std::string early_sites = "lv_apex";
   std::string early_site_list;        ///< "x,y,z@t;..." [mm, ms] for early_sites = list
@@ -373,6 +375,34 @@ class HeartModel {
           throw sph::ParameterError("no particle lies within 'stimulus_radius' of the stimulus centre " +
                                     sph::NumericalFailure::format_position(stimulus_centre));
         break;
+      case StimulusSite::surface: {
+        const auto label = cardio::label_of_surface_name(p.stimulus_surface);
+        stimulus.name = p.stimulus_surface;
+        for (std::size_t i = 0; i < n(); ++i)
+          if (labels[i] == label) stimulus.particles.push_back(i);
+        if (stimulus.particles.empty())
+          throw sph::ParameterError("parameter 'stimulus_surface' = " + p.stimulus_surface + ": no particle carries that label (labels by " +
+                                    g.label_method + ")");
+        break;
+      }
+      case StimulusSite::nodes: {
+        // Mesh nodes of the tetrahedral mesh (an openCARP .vtx list): the particles within
+        // stimulus_radius of any of them.
+        const auto gs = p.geometry.resolved(preset_spacing(p.preset));
+        const auto mesh = geometry::read_tet_mesh(gs.mesh, gs.scale);
+        const auto nodes = geometry::read_vertex_list(p.stimulus_nodes, mesh.vertices.size());
+        stimulus.name = "nodes";
+        for (std::size_t i = 0; i < n(); ++i)
+          for (std::size_t k : nodes)
+            if ((body.position[i] - mesh.vertices[k].cast<Real>()).norm() <= p.stimulus_radius) {
+              stimulus.particles.push_back(i);
+              break;
+            }
+        if (stimulus.particles.empty())
+          throw sph::ParameterError("no particle lies within 'stimulus_radius' of the " + std::to_string(nodes.size()) +
+                                    " nodes of '" + p.stimulus_nodes.string() + "'");
+        break;
+      }
       case StimulusSite::endocardium: endocardial_stimuli(p, g, ep); break;
     }
     if (p.stimulus_site != StimulusSite::endocardium) {
@@ -482,6 +512,8 @@ class HeartModel {
       case StimulusSite::point: return p.stimulus_point.cast<Real>();
       case StimulusSite::box: return (Real(0.5) * (p.stimulus_box_min + p.stimulus_box_max)).cast<Real>();
       case StimulusSite::lv_apex:
+      case StimulusSite::surface:
+      case StimulusSite::nodes:
       case StimulusSite::endocardium: break;
     }
     return lv_apex(g, body.position);
@@ -868,10 +900,19 @@ class HeartScene final : public Scene {
                {{"lv-apex", StimulusSite::lv_apex},
                 {"point", StimulusSite::point},
                 {"box", StimulusSite::box},
+                {"surface", StimulusSite::surface},
+                {"nodes", StimulusSite::nodes},
                 {"endocardium", StimulusSite::endocardium}},
                "stimulated region: within stimulus_radius of the LV endocardial particle farthest from the base (the LV "
-               "apex) or of stimulus_point, the particles in the box stimulus_box_min to stimulus_box_max, or every LV "
-               "and RV endocardial particle at its distance from the LV apex over purkinje_velocity (a Purkinje surrogate)");
+               "apex) or of stimulus_point, the particles in the box stimulus_box_min to stimulus_box_max, the particles "
+               "labelled stimulus_surface, those within stimulus_radius of the mesh nodes listed in stimulus_nodes, or "
+               "every LV and RV endocardial particle at its distance from the LV apex over purkinje_velocity (a Purkinje "
+               "surrogate)");
+    p.add_choice("stimulus_surface", p_.stimulus_surface, {"epi", "lv_endo", "rv_endo", "base"},
+                 "labelled surface for stimulus_site = surface");
+    p.add_path("stimulus_nodes", p_.stimulus_nodes,
+               "stimulus_site = nodes: node indices of the tetrahedral mesh, an openCARP .vtx file (count, optional "
+               "intra/extra, one index per line)");
     p.add("purkinje_velocity", p_.purkinje_velocity, "mm/ms",
           "stimulus_site = endocardium: speed at which the pacing spreads from the LV apex over the endocardia "
           "(Purkinje fibres conduct at 2-4 m/s)", sph::Range::positive());
@@ -979,6 +1020,12 @@ class HeartScene final : public Scene {
          cells.uniform_type != sph::TenTusscherPanfilov2006::CellType::epicardial))
       throw sph::ParameterError("the cell types, conductance scalings, drug block and populations need cell_model = "
                                 "ten_tusscher_panfilov");
+    if (p_.stimulus_site == StimulusSite::nodes) {
+      if (p_.stimulus_nodes.empty()) throw sph::ParameterError("stimulus_site = nodes needs parameter 'stimulus_nodes' (a .vtx file)");
+      if (!geometry::is_tet_mesh_file(p_.geometry.settings.mesh))
+        throw sph::ParameterError("stimulus_site = nodes needs a tetrahedral 'mesh' (.vtu, .pts/.elem), not '" +
+                                  p_.geometry.settings.mesh.string() + "'");
+    }
     if (p_.stimulus_site == StimulusSite::box && !(p_.stimulus_box_min.array() < p_.stimulus_box_max.array()).all())
       throw sph::ParameterError("parameter 'stimulus_box_min' must lie below 'stimulus_box_max' in x, y and z");
   }
@@ -1132,6 +1179,9 @@ void HeartScene::run(RunContext& ctx) {
   }
   r.results["particle_spacing_mm"] = heart.dp;
   r.results["geometry_from_cache"] = g.from_cache;
+  r.results["label_method"] = g.label_method;
+  r.results["fibre_method"] = g.fibre_method;
+  if (g.tets) r.results["tetrahedra"] = g.tets;
   r.results["fixed_base_particles"] = heart.base.size();
   r.results["stimulated_particles"] = heart.stimulated;
   for (const auto& site : heart.early)
