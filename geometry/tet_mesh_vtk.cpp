@@ -19,9 +19,8 @@
 #include <vtkPoints.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridReader.h>
-#include <vtkXMLUnstructuredGridWriter.h>
 
-#include "libsph/io/atomic_file.hpp"
+#include "libsph/io/vtk/vtu_writer.hpp"
 
 namespace geometry::detail {
 namespace {
@@ -206,15 +205,11 @@ void write_vtu_tets(const TetMesh& mesh, const fs::path& path, double scale) {
   add_vectors(mesh.fibre, "fibre");
   add_vectors(mesh.sheet, "sheet");
 
-  const auto temporary = sph::temporary_path_for(path);
-  vtkNew<vtkXMLUnstructuredGridWriter> writer;
-  writer->SetFileName(temporary.string().c_str());
-  writer->SetInputData(grid);
-  writer->SetDataModeToAppended();
-  writer->EncodeAppendedDataOff();
-  writer->SetCompressorTypeToZLib();
-  if (writer->Write() != 1) throw MeshError("write_tet_mesh: cannot write '" + temporary.string() + "'");
-  sph::commit_temporary(temporary, path);
+  try {
+    sph::write_unstructured_grid(*grid, path);
+  } catch (const std::runtime_error& error) {
+    throw MeshError(std::string("write_tet_mesh: ") + error.what());
+  }
 }
 
 }  // namespace geometry::detail

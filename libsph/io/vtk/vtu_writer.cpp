@@ -41,10 +41,14 @@ void write_vtu(const std::filesystem::path& path, const std::vector<double>& poi
     grid->GetPointData()->AddArray(data);
   }
 
+  write_unstructured_grid(*grid, path);
+}
+
+void write_unstructured_grid(vtkUnstructuredGrid& grid, const std::filesystem::path& path) {
   const auto temporary = temporary_path_for(path);
   vtkNew<vtkXMLUnstructuredGridWriter> writer;
   writer->SetFileName(temporary.string().c_str());
-  writer->SetInputData(grid);
+  writer->SetInputData(&grid);
   writer->SetDataModeToAppended();
   writer->EncodeAppendedDataOff();
   writer->SetCompressorTypeToZLib();

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+class vtkUnstructuredGrid;
+
 namespace sph {
 
 struct PointArray {
@@ -17,6 +19,10 @@ struct PointArray {
 /// Writes points (x, y, z per point) and point arrays to `path` atomically.
 void write_vtu(const std::filesystem::path& path, const std::vector<double>& points_xyz,
                const std::vector<PointArray>& arrays);
+
+/// Writes a grid built by the caller (VTK code of its own, e.g. tetrahedral meshes) to `path`
+/// atomically, in the same form as write_vtu (appended binary, zlib). Builds with VTK only.
+void write_unstructured_grid(vtkUnstructuredGrid& grid, const std::filesystem::path& path);
 
 /// True when the build has VTK output (CARDIOSPH_WITH_VTK).
 bool vtu_output_available();
