@@ -1,0 +1,120 @@
+// Every scene family, run briefly at coarse resolution with 1 and with 2 threads, writes the same
+// bytes: each .vtu state (every output field), each .csv time series and the results of
+// report.json other than timings and memory. Families: diffusion, solid, cell model and tissue
+// electrophysiology, electromechanics (with its geometry stage), geometry, fluid, fluid-structure.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "apps/scenes/scene.hpp"
+#include "libsph/core/parallel.hpp"
+#include "libsph/io/parameters.hpp"
+#include "temporary_folder.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Outputs {
+  std::map<std::string, std::string> files;  ///< name -> bytes (.vtu, .csv)
+  nlohmann::json results;
+};
+
+std::string bytes_of(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Results without the keys that measure the run rather than the physics.
+nlohmann::json physics_only(const nlohmann::json& j) {
+  if (!j.is_object()) return j;
+  nlohmann::json out = nlohmann::json::object();
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    const std::string& k = it.key();
+    const bool measures_the_run = k.find("second") != std::string::npos || k.find("wall") != std::string::npos ||
+                                  k.find("rss") != std::string::npos || k.find("timing") != std::string::npos ||
+                                  k.find("microseconds") != std::string::npos || k.find("per_second") != std::string::npos ||
+                                  k.find("from_cache") != std::string::npos || k == "threads";
+    if (!measures_the_run) out[k] = physics_only(it.value());
+  }
+  return out;
+}
+
+Outputs run(const std::string& scene_name, const std::vector<std::string>& assignments, std::size_t threads) {
+  const auto* entry = cardiosph::find_scene(scene_name);
+  EXPECT_NE(entry, nullptr) << scene_name;
+  auto scene = entry->make();
+  sph::Parameters parameters;
+  scene->declare(parameters);
+  if (parameters.has("cache")) parameters.set("cache", "none", "test");
+  for (const auto& a : assignments) parameters.set_assignment(a, "test");
+  parameters.apply_presets();
+  parameters.check();
+  const test::TemporaryFolder folder(scene_name + "_" + std::to_string(threads));
+  sph::ThreadLimit limit(threads);
+  EXPECT_EQ(sph::active_thread_count(), threads);
+  cardiosph::RunContext ctx;
+  ctx.output_dir = folder.path();
+  ctx.quiet = true;
+  scene->check();
+  scene->run(ctx);
+  Outputs r;
+  for (const auto& file : fs::directory_iterator(folder.path())) {
+    const auto extension = file.path().extension();
+    if (extension == ".vtu" || extension == ".csv") r.files[file.path().filename().string()] = bytes_of(file.path());
+  }
+  r.results = physics_only(ctx.report.results);
+  return r;
+}
+
+struct Case {
+  std::string scene;
+  std::vector<std::string> assignments;
+};
+
+class SceneDeterminism : public ::testing::TestWithParam<Case> {};
+
+TEST_P(SceneDeterminism, OneAndTwoThreadsWriteTheSameBytes) {
+  const auto& c = GetParam();
+  const Outputs one = run(c.scene, c.assignments, 1), two = run(c.scene, c.assignments, 2);
+  ASSERT_FALSE(one.files.empty()) << c.scene << " wrote no .vtu or .csv";
+  std::size_t vtu = 0, bytes = 0;
+  for (const auto& [name, content] : one.files) {
+    const auto other = two.files.find(name);
+    ASSERT_NE(other, two.files.end()) << name << " is missing with 2 threads";
+    EXPECT_TRUE(content == other->second) << c.scene << ": " << name << " differs between 1 and 2 threads";
+    vtu += name.ends_with(".vtu");
+    bytes += content.size();
+  }
+  EXPECT_EQ(one.files.size(), two.files.size());
+  EXPECT_GE(vtu, 1u) << c.scene << " wrote no particle state";
+  // As text: a result that is not a number (NaN, written as null) equals itself there.
+  EXPECT_EQ(one.results.dump(), two.results.dump()) << c.scene << ": the report's results differ";
+  std::printf("[ measured ] %s: %zu files (%zu .vtu, %zu bytes) identical with 1 and 2 threads\n", c.scene.c_str(),
+              one.files.size(), vtu, bytes);
+}
+
+// Short runs: enough steps for every operator of the family to act (neighbour rebuilds, stimuli,
+// contact, the fluid-structure coupling), each a few seconds.
+INSTANTIATE_TEST_SUITE_P(
+    Families, SceneDeterminism,
+    ::testing::Values(Case{"diffusion-aniso", {"resolution=24", "end_time=0.5"}},
+                      Case{"oscillating-beam", {"resolution=4", "end_time=0.6"}},
+                      Case{"depolarization", {"end_time=2"}},
+                      Case{"cable", {"pacing=train", "pacing_count=1", "end_time=30"}},
+                      Case{"particles", {"dp=1.5", "relaxation_steps=20"}},
+                      Case{"heart", {"preset=coarse", "end_time=3", "output_interval=1"}},
+                      Case{"dambreak", {"resolution=20", "end_time=1"}},
+                      Case{"hydrostatic-plate", {"end_time=0.02"}}),
+    [](const ::testing::TestParamInfo<Case>& info) {
+      std::string name = info.param.scene;
+      std::replace(name.begin(), name.end(), '-', '_');
+      return name;
+    });
+
+}  // namespace
