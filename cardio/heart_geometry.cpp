@@ -95,6 +95,7 @@ nlohmann::json statistics_json(const HeartGeometry& g) {
           {"spacing_ratio", {b.spacing_min_ratio, b.spacing_mean_ratio, b.spacing_max_ratio, b.spacing_spread}},
           {"relaxation_steps", b.relaxation_steps_done},
           {"neighbour_builds", b.neighbour_builds},
+          {"neighbourhoods", {b.neighbours_median, b.neighbours_min, b.conditioning_min}},
           {"seconds", {b.level_set_seconds, b.lattice_seconds, b.relaxation_seconds, b.volume_seconds}},
           {"mesh", {c.vertices, c.faces, c.components, c.volume}},
           {"label_method", g.label_method},
@@ -164,6 +165,9 @@ bool load(const fs::path& file, const nlohmann::json& settings, HeartGeometry& g
     b.spacing_spread = s.at("spacing_ratio")[3];
     b.relaxation_steps_done = s.at("relaxation_steps");
     b.neighbour_builds = s.at("neighbour_builds");
+    b.neighbours_median = s.at("neighbourhoods")[0];
+    b.neighbours_min = s.at("neighbourhoods")[1];
+    b.conditioning_min = s.at("neighbourhoods")[2];
     b.level_set_seconds = s.at("seconds")[0];
     b.lattice_seconds = s.at("seconds")[1];
     b.relaxation_seconds = s.at("seconds")[2];
@@ -321,6 +325,8 @@ HeartGeometry prepare_heart_geometry(const HeartGeometrySettings& settings, cons
   g.body = geometry::generate_particles(shape, generation);
   say("geometry: " + std::to_string(g.body.size()) + " particles, volume error " +
       std::to_string(g.body.volume_relative_error));
+  // The mechanics must not start from a degenerate neighbourhood: stop, naming the place.
+  geometry::require_no_thin_features(g.body, settings.spacing, "mesh '" + settings.mesh.string() + "'");
 
   // Labels.
   const bool separate = !settings.epi_surface.empty() || !settings.lv_surface.empty() || !settings.rv_surface.empty();

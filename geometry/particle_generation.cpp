@@ -6,11 +6,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <variant>
+
+#include <Eigen/Eigenvalues>
 
 #include "libsph/core/cell_linked_list.hpp"
 #include "libsph/core/kernels.hpp"
@@ -403,7 +406,84 @@ void measure_spacing(BodyParticles& body, double dp) {
                         body.spacing_mean_ratio;
 }
 
+// Neighbour counts within the support R = 2 h, the conditioning of each neighbourhood's second
+// moment sum_j w_j r_ij r_ij^T with w = (1 - r/R)^4 (1 + 4 r/R), and the thin-feature flags.
+void measure_neighbourhoods(BodyParticles& body, double dp, const ParticleGenerationSettings& settings) {
+  const std::size_t n = body.size();
+  const double support = 2 * settings.smoothing_ratio * dp;
+  std::vector<sph::Vec<3>> x(n);
+  for (std::size_t i = 0; i < n; ++i) x[i] = body.positions[i].cast<sph::Real>();
+  const sph::CellLinkedList<3> cells(x, sph::Real(support));
+  std::vector<std::size_t> count(n);
+  std::vector<double> conditioning(n), nearest(n);
+  sph::parallel_for(n, [&](std::size_t i) {
+    Eigen::Matrix3d moment = Eigen::Matrix3d::Zero();
+    std::size_t k = 0;
+    double d_min = support;
+    cells.for_each_candidate(x[i], [&](sph::Index j) {
+      if (j == i) return;
+      const Vec3 r = body.positions[j] - body.positions[i];
+      const double d = r.norm();
+      if (d >= support) return;
+      ++k;
+      d_min = std::min(d_min, d);
+      const double q = d / support;
+      moment += std::pow(1 - q, 4) * (1 + 4 * q) * r * r.transpose();
+    });
+    count[i] = k;
+    nearest[i] = d_min;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(moment, Eigen::EigenvaluesOnly);
+    const double largest = eigen.eigenvalues()(2);
+    conditioning[i] = largest > 0 ? std::max(0.0, eigen.eigenvalues()(0)) / largest : 0;
+  });
+  std::vector<std::size_t> sorted = count;
+  std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(n / 2), sorted.end());
+  body.neighbours_median = sorted[n / 2];
+  body.neighbours_min = *std::min_element(count.begin(), count.end());
+  body.conditioning_min = *std::min_element(conditioning.begin(), conditioning.end());
+  body.thin.clear();
+  body.thin_description.clear();
+  std::size_t worst = n;
+  double worst_score = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < n; ++i) {
+    const double neighbours = double(count[i]) / std::max<double>(1, double(body.neighbours_median));
+    const bool thin = neighbours < settings.min_neighbour_fraction || conditioning[i] < settings.min_conditioning ||
+                      nearest[i] < settings.min_distance_ratio * dp;
+    if (!thin) continue;
+    body.thin.push_back(i);
+    // The worst: the smallest of the three measures, each over its threshold.
+    const double score = std::min({neighbours / settings.min_neighbour_fraction, conditioning[i] / settings.min_conditioning,
+                                   nearest[i] / (settings.min_distance_ratio * dp)});
+    if (score < worst_score) {
+      worst_score = score;
+      worst = i;
+    }
+  }
+  if (worst == n) return;
+  // Local thickness: twice the largest depth of the thin particles within the support of the worst.
+  double depth = body.depth[worst];
+  for (std::size_t i : body.thin)
+    if ((body.positions[i] - body.positions[worst]).norm() < support) depth = std::max(depth, body.depth[i]);
+  const Vec3& p = body.positions[worst];
+  char text[400];
+  std::snprintf(text, sizeof text,
+                "at (%.3g, %.3g, %.3g): %zu neighbours (median %zu), nearest %.2f dp, conditioning %.3f; the feature is "
+                "about %.3g thick there, so a spacing of %.3g or less resolves it",
+                p.x(), p.y(), p.z(), count[worst], body.neighbours_median, nearest[worst] / dp, conditioning[worst],
+                2 * depth, 2 * depth / 3);
+  body.thin_description = text;
+}
+
 }  // namespace
+
+void require_no_thin_features(const BodyParticles& body, double spacing, const std::string& what) {
+  if (body.thin.empty()) return;
+  throw std::invalid_argument(what + ": " + std::to_string(body.thin.size()) + " particle" +
+                              (body.thin.size() == 1 ? "" : "s") + " at spacing " + std::to_string(spacing) +
+                              " lie in features thinner than the spacing (too few neighbours, a flat neighbourhood or "
+                              "a neighbour closer than half the spacing); the worst " +
+                              body.thin_description);
+}
 
 BodyParticles generate_particles(const Shape& shape, const ParticleGenerationSettings& settings) {
   const double dp = settings.spacing;
@@ -461,6 +541,7 @@ BodyParticles generate_particles(const Shape& shape, const ParticleGenerationSet
   body.volume_relative_error = (sum - body.shape_volume) / body.shape_volume;
   body.density_spread = std::sqrt(std::max(0.0, sum2 / double(count) - mean * mean)) / mean;
   measure_spacing(body, dp);
+  measure_neighbourhoods(body, dp, settings);
   return body;
 }
 

@@ -47,6 +47,11 @@ struct ParticleGenerationSettings {
   /// outside level-set nodes within support + skin and are rebuilt once a particle has moved skin / 2.
   /// Any value gives the same particles; it only trades list length against rebuilds.
   double neighbour_skin = 0.3;
+  /// Thin features: a particle is in one when it has fewer than min_neighbour_fraction of the
+  /// median neighbour count, a neighbourhood conditioning below min_conditioning, or a neighbour
+  /// closer than min_distance_ratio dp (relaxation packed particles into a feature thinner than
+  /// the spacing, where the mechanics' corrected kernels are singular).
+  double min_neighbour_fraction = 0.25, min_conditioning = 0.02, min_distance_ratio = 0.5;
   /// Called every step with (step, rms residual * h).
   std::function<void(long, double)> on_step;
 };
@@ -67,6 +72,14 @@ struct BodyParticles {
   /// deviation over the mean.
   double spacing_min_ratio = 0, spacing_mean_ratio = 0, spacing_max_ratio = 0, spacing_spread = 0;
   double residual_initial = 0, residual_final = 0;    ///< rms |r_i| h over all particles
+  /// Neighbourhoods within the kernel support: the median and smallest neighbour counts, and the
+  /// smallest conditioning (lambda_min / lambda_max of sum_j W_ij r_ij r_ij^T: 1 for a full
+  /// sphere, 0 for a single layer of particles).
+  std::size_t neighbours_median = 0, neighbours_min = 0;
+  double conditioning_min = 1;
+  /// Particles in features thinner than the spacing (see check_thin_features), index order.
+  std::vector<std::size_t> thin;
+  std::string thin_description;       ///< the worst of them, for messages ("" when none)
   long relaxation_steps_done = 0;
   long neighbour_builds = 0;          ///< builds of the relaxation's neighbour lists
   double level_set_seconds = 0, lattice_seconds = 0, relaxation_seconds = 0, volume_seconds = 0;
@@ -75,7 +88,15 @@ struct BodyParticles {
 };
 
 /// Particles of spacing settings.spacing filling `shape` (see the file comment). Throws
-/// std::invalid_argument when the spacing is not positive or leaves no particle inside.
+/// std::invalid_argument when the spacing is not positive or leaves no particle inside. Thin
+/// features are measured (BodyParticles::thin), not acted on: see require_no_thin_features.
 BodyParticles generate_particles(const Shape& shape, const ParticleGenerationSettings& settings);
+
+/// Throws std::invalid_argument when `body` holds particles in thin features: the message counts
+/// them, names the worst (position, neighbours against the median, nearest distance,
+/// conditioning) and the spacing that would resolve the feature there (a third of its local
+/// thickness, estimated as twice the largest depth of the thin particles around it). `what`
+/// names the input (e.g. the mesh file).
+void require_no_thin_features(const BodyParticles& body, double spacing, const std::string& what);
 
 }  // namespace geometry

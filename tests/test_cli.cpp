@@ -247,6 +247,16 @@ std::vector<std::array<double, 9>> box_triangles(double o, double size) {
   return t;
 }
 
+TEST_F(Cli, ParticlesRejectsAFeatureThinnerThanTheSpacing) {
+  // A 10 mm plate 0.8 mm thick at dp 1 mm: one layer of particles, a flat neighbourhood.
+  auto t = box_triangles(0, 10);
+  for (auto& triangle : t)
+    for (int k = 0; k < 3; ++k) triangle[3 * k + 2] *= 0.08;
+  expect_rejected({"particles", write("plate.stl", ascii_stl(t)).string(), "--dp", "1", "--set", "cache=none"},
+                  "lie in features thinner than the spacing");
+  EXPECT_NE(stderr_.find("a spacing of 0.2"), std::string::npos) << stderr_;
+}
+
 TEST_F(Cli, ParticlesRejectsAnOpenBox) {
   auto t = box_triangles(0, 10);
   t.pop_back();

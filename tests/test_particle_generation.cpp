@@ -165,3 +165,43 @@ TEST(ParticleGeneration, SameParticlesForOneAndTwoThreads) {
 }
 
 }  // namespace
+
+namespace {
+
+// A block with a fin thinner than the spacing (0.6 dp) standing on it, and a block one spacing
+// thin: relaxation puts particles into both, with too few neighbours or a flat neighbourhood.
+// The geometry stage must see them, name the place and the spacing that resolves them.
+TEST(ParticleGeneration, ThinFeaturesAreFoundAndNamed) {
+  geometry::ParticleGenerationSettings settings;
+  settings.spacing = 1.0;
+  settings.relaxation_steps = 50;
+  const auto block = geometry::make_box(Vec3(0, 0, 0), Vec3(10, 10, 6));
+  // Healthy: the block alone.
+  const auto healthy = geometry::generate_particles(*block, settings);
+  std::cout << "[ measured ] block 10 x 10 x 6 at dp 1: neighbours median " << healthy.neighbours_median << ", min "
+            << healthy.neighbours_min << ", conditioning min " << healthy.conditioning_min << ", nearest "
+            << healthy.spacing_min_ratio << " dp\n";
+  EXPECT_TRUE(healthy.thin.empty());
+  EXPECT_NO_THROW(geometry::require_no_thin_features(healthy, 1.0, "block"));
+
+  for (const auto& [name, shape] : std::vector<std::pair<std::string, geometry::ShapePtr>>{
+           {"fin 0.6 dp thick", geometry::make_union(block, geometry::make_box(Vec3(5.2, 1, 6), Vec3(5.8, 9, 12)))},
+           {"sheet 1 dp thick", geometry::make_box(Vec3(0, 0, 0), Vec3(12, 12, 1.0))}}) {
+    const auto body = geometry::generate_particles(*shape, settings);
+    std::cout << "[ measured ] " << name << ": " << body.thin.size() << " of " << body.size()
+              << " particles flagged; neighbours median " << body.neighbours_median << ", min " << body.neighbours_min
+              << ", conditioning min " << body.conditioning_min << ", nearest " << body.spacing_min_ratio << " dp\n";
+    EXPECT_FALSE(body.thin.empty()) << name;
+    try {
+      geometry::require_no_thin_features(body, 1.0, name);
+      ADD_FAILURE() << name << ": not refused";
+    } catch (const std::invalid_argument& e) {
+      const std::string m = e.what();
+      std::cout << "[ refused  ] " << m << '\n';
+      EXPECT_NE(m.find("thinner than the spacing"), std::string::npos) << m;
+      EXPECT_NE(m.find("a spacing of"), std::string::npos) << m;
+    }
+  }
+}
+
+}  // namespace

@@ -69,6 +69,9 @@ class ParticlesScene final : public Scene {
     r.results["relaxation_residual"] = {g.body.residual_initial, g.body.residual_final};
     r.results["relaxation_steps"] = g.body.relaxation_steps_done;
     r.results["neighbour_builds"] = g.body.neighbour_builds;
+    r.results["neighbours"] = {{"median", g.body.neighbours_median}, {"min", g.body.neighbours_min}};
+    r.results["conditioning_min"] = g.body.conditioning_min;
+    r.results["thin_particles"] = g.body.thin.size();
     r.results["label_method"] = g.label_method;
     r.results["fibre_method"] = g.fibre_method;
     r.results["tetrahedra"] = g.tets;
