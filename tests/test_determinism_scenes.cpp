@@ -12,6 +12,7 @@
 #include "apps/scenes/scene.hpp"
 #include "libsph/core/parallel.hpp"
 #include "libsph/io/parameters.hpp"
+#include "run_scene_for_test.hpp"
 #include "temporary_folder.hpp"
 
 namespace {
@@ -50,11 +51,7 @@ Outputs run(const std::string& scene_name, const std::vector<std::string>& assig
   EXPECT_NE(entry, nullptr) << scene_name;
   auto scene = entry->make();
   sph::Parameters parameters;
-  scene->declare(parameters);
-  if (parameters.has("cache")) parameters.set("cache", "none", "test");
-  for (const auto& a : assignments) parameters.set_assignment(a, "test");
-  parameters.apply_presets();
-  parameters.check();
+  test::set_parameters(*scene, parameters, assignments);
   const test::TemporaryFolder folder(scene_name + "_" + std::to_string(threads));
   sph::ThreadLimit limit(threads);
   EXPECT_EQ(sph::active_thread_count(), threads);

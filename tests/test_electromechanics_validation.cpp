@@ -24,11 +24,7 @@ namespace {
 sph::RunReport run(std::unique_ptr<cardiosph::Scene> scene, const std::vector<std::string>& assignments,
                    const std::string& name) {
   sph::Parameters parameters;
-  scene->declare(parameters);
-  if (parameters.has("cache")) parameters.set("cache", "none", "test");
-  for (const auto& a : assignments) parameters.set_assignment(a, "test");
-  parameters.apply_presets();
-  parameters.check();
+  test::set_parameters(*scene, parameters, assignments);
   return test::run_scene(*scene, name);
 }
 

@@ -17,11 +17,7 @@ namespace {
 sph::RunReport run_particles(const std::vector<std::string>& assignments, const std::string& name) {
   auto scene = cardiosph::make_particles_scene();
   sph::Parameters parameters;
-  scene->declare(parameters);
-  parameters.set("cache", "none", "test");
-  for (const auto& a : assignments) parameters.set_assignment(a, "test");
-  parameters.apply_presets();
-  parameters.check();
+  test::set_parameters(*scene, parameters, assignments);
   return test::run_scene(*scene, name);
 }
 

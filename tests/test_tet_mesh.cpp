@@ -454,14 +454,11 @@ TEST(TetMeshHeart, HeartRunsOnAnOpenCarpMeshPacedAtMeshNodes) {
   }
   auto run = [&](const std::vector<std::string>& extra) {
     auto scene = cardiosph::make_heart_scene();
+    std::vector<std::string> assignments{"preset=coarse", "mesh=" + (folder / "biv.elem").string(), "units=um",
+                                         "end_time=2", "output_interval=0"};
+    assignments.insert(assignments.end(), extra.begin(), extra.end());
     sph::Parameters parameters;
-    scene->declare(parameters);
-    const std::vector<std::string> common{"preset=coarse", "cache=none", "mesh=" + (folder / "biv.elem").string(),
-                                          "units=um", "end_time=2", "output_interval=0"};
-    for (const auto& a : common) parameters.set_assignment(a, "test");
-    for (const auto& a : extra) parameters.set_assignment(a, "test");
-    parameters.apply_presets();
-    parameters.check();
+    test::set_parameters(*scene, parameters, assignments);
     return test::run_scene(*scene, "heart_tets");
   };
   const auto r = run({"stimulus_site=nodes", "stimulus_nodes=" + (folder / "apex.vtx").string(), "stimulus_radius=3"});
