@@ -42,6 +42,13 @@ int run_cli(int argc, const char* const* argv) {
       command->add_option(key, shortcut_values[scene.name + "/" + key], "same as --set " + key + "=...");
     for (const auto& key : scene.shortcuts)
       command->add_option("--" + key, shortcut_values[scene.name + "/" + key], "same as --set " + key + "=...");
+    command->add_option("--checkpoint-interval", options.checkpoint_interval,
+                        "write <output>/checkpoint.bin every this much simulated time (scenes that can checkpoint: heart)");
+    command->add_option("--interrupt-at", options.interrupt_at,
+                        "stop with a checkpoint at the first step at or after this simulated time, as Ctrl-C or SIGTERM do");
+    command->add_option("--resume", options.resume,
+                        "continue the interrupted run in folder DIR from its checkpoint.bin, with its parameters")
+        ->option_text("DIR");
     scene_commands.emplace_back(scene.name, command);
   }
   std::string mesh_kind;
@@ -92,6 +99,8 @@ int run_cli(int argc, const char* const* argv) {
         for (auto it = result.report.errors.begin(); it != result.report.errors.end(); ++it)
           std::cout << "  errors." << it.key() << " = " << it.value() << '\n';
       }
+      if (result.exit_code == exit_interrupted)
+        std::cout << "interrupted; continue with: cardiosph " << name << " --resume " << result.output.string() << '\n';
       std::cout << "results in " << std::filesystem::absolute(result.output).string() << " (report.json";
       if (std::filesystem::is_directory(result.output))
         for (const auto& file : std::filesystem::directory_iterator(result.output)) {

@@ -1,10 +1,13 @@
 #include "apps/run_scene.hpp"
 
 #include <chrono>
+#include <csignal>
+#include <cstdio>
 #include <iostream>
 
 #include "libsph/core/numerical_failure.hpp"
 #include "libsph/core/parallel.hpp"
+#include "libsph/io/checkpoint.hpp"
 
 namespace cardiosph {
 namespace {
@@ -27,6 +30,67 @@ void replace_folder(const fs::path& staging, const fs::path& output) {
   fs::rename(staging, output);
 }
 
+// A number as text that parses back to the same double.
+std::string exact(double v) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.17g", v);
+  return text;
+}
+
+// The parameters saved in a checkpoint as key=value assignments that give back the same values.
+std::vector<std::string> saved_assignments(const sph::Checkpoint& checkpoint, const fs::path& file) {
+  nlohmann::json values;
+  try {
+    values = nlohmann::json::parse(checkpoint.parameters);
+  } catch (const nlohmann::json::exception& error) {
+    throw sph::ParameterError("checkpoint '" + file.string() + "': its parameters are not valid JSON: " + error.what());
+  }
+  if (!values.is_object()) throw sph::ParameterError("checkpoint '" + file.string() + "': its parameters are not a JSON object");
+  std::vector<std::string> out;
+  for (auto it = values.begin(); it != values.end(); ++it) {
+    const auto& v = it.value();
+    std::string text;
+    if (v.is_string()) text = v.get<std::string>();
+    else if (v.is_boolean()) text = v.get<bool>() ? "true" : "false";
+    else if (v.is_number_integer()) text = std::to_string(v.get<long long>());
+    else if (v.is_number()) text = exact(v.get<double>());
+    else if (v.is_array() && v.size() == 3 && v[0].is_number() && v[1].is_number() && v[2].is_number())
+      text = exact(v[0].get<double>()) + "," + exact(v[1].get<double>()) + "," + exact(v[2].get<double>());
+    else throw sph::ParameterError("checkpoint '" + file.string() + "': parameter '" + it.key() + "' has a value of unknown form");
+    out.push_back(it.key() + "=" + text);
+  }
+  return out;
+}
+
+// The first signal asks the running harness to checkpoint and stop; a second one ends the process.
+extern "C" void on_interrupt_signal(int signal) {
+  sph::request_interrupt();
+  std::signal(signal, SIG_DFL);
+}
+
+// Catches Ctrl-C and SIGTERM for the lifetime of a run that can checkpoint.
+class InterruptSignals {
+ public:
+  explicit InterruptSignals(bool active) : active_(active) {
+    sph::clear_interrupt();
+    if (!active_) return;
+    previous_int_ = std::signal(SIGINT, on_interrupt_signal);
+    previous_term_ = std::signal(SIGTERM, on_interrupt_signal);
+  }
+  ~InterruptSignals() {
+    if (!active_) return;
+    std::signal(SIGINT, previous_int_);
+    std::signal(SIGTERM, previous_term_);
+  }
+  InterruptSignals(const InterruptSignals&) = delete;
+  InterruptSignals& operator=(const InterruptSignals&) = delete;
+
+ private:
+  bool active_;
+  void (*previous_int_)(int) = SIG_DFL;
+  void (*previous_term_)(int) = SIG_DFL;
+};
+
 }  // namespace
 
 SceneRunResult run_scene(const std::string& scene_name, const CommonOptions& options,
@@ -38,8 +102,33 @@ SceneRunResult run_scene(const std::string& scene_name, const CommonOptions& opt
   // 1. Parameters: defaults, config file, --resolution/--end-time, --set, extra, then the chosen
   // presets on what those left alone; then checks.
   auto scene = entry->make();
+  const bool resuming = !options.resume.empty();
+  const bool wants_checkpoints = resuming || options.checkpoint_interval > 0 || options.interrupt_at >= 0;
+  if (wants_checkpoints && !scene->checkpoints())
+    throw sph::ParameterError("scene '" + scene_name + "' does not save its whole state, so it cannot be checkpointed or resumed "
+                              "(--checkpoint-interval, --interrupt-at, --resume); scenes that can: heart");
+  if (!(options.checkpoint_interval >= 0) || !std::isfinite(options.checkpoint_interval))
+    throw sph::ParameterError("option '--checkpoint-interval' = " + exact(options.checkpoint_interval) + ": must be >= 0 (simulated time)");
+  std::shared_ptr<sph::Checkpoint> checkpoint;
+  fs::path resume_output;
+  if (resuming) {
+    if (!options.config.empty() || !options.assignments.empty() || !options.resolution.empty() || !options.end_time.empty() ||
+        !extra.empty() || !options.output.empty())
+      throw sph::ParameterError("--resume continues a run with its own parameters and folder; --config, --set, --resolution, "
+                                "--end-time, --output and scene options cannot be given with it");
+    const fs::path file = options.resume / sph::checkpoint_file_name;
+    checkpoint = std::make_shared<sph::Checkpoint>(sph::read_checkpoint(file));
+    if (checkpoint->scene != scene_name)
+      throw sph::ParameterError("checkpoint '" + file.string() + "' is of scene '" + checkpoint->scene + "', not '" + scene_name +
+                                "' (resume it with 'cardiosph " + checkpoint->scene + " --resume " + options.resume.string() + "')");
+    resume_output = options.resume.lexically_normal();
+    if (resume_output.filename().empty()) resume_output = resume_output.parent_path();
+    if (resume_output.extension() == ".partial") resume_output.replace_extension();
+  }
   sph::Parameters parameters;
   scene->declare(parameters);
+  if (checkpoint)
+    for (const auto& a : saved_assignments(*checkpoint, options.resume / sph::checkpoint_file_name)) parameters.set_assignment(a, "checkpoint");
   if (!options.config.empty()) parameters.load_file(options.config);
   if (!options.resolution.empty()) parameters.set("resolution", options.resolution, "--resolution");
   if (!options.end_time.empty()) parameters.set("end_time", options.end_time, "--end-time");
@@ -55,23 +144,41 @@ SceneRunResult run_scene(const std::string& scene_name, const CommonOptions& opt
     return result;
   }
 
-  const fs::path output = options.output.empty() ? fs::path("output") / scene_name : options.output;
-  check_output_folder(output);
+  const fs::path output = resuming ? resume_output : options.output.empty() ? fs::path("output") / scene_name : options.output;
+  if (!resuming) check_output_folder(output);
   result.output = output;
   if (!options.quiet) std::cout << "cardiosph " << scene_name << ", parameters:\n" << parameters.describe() << std::flush;
 
-  // 2. Run into a staging folder.
-  const fs::path staging = fs::path(output.string() + ".partial");
+  // 2. Run into a staging folder (resuming: a copy of the interrupted run's folder).
+  const fs::path staging = fs::path(output.string() + (resuming ? ".resume" : ".partial"));
   fs::remove_all(staging);
-  fs::create_directories(staging);
+  if (resuming) {
+    fs::copy(options.resume, staging, fs::copy_options::recursive);
+    fs::remove(staging / "report.json");
+  } else {
+    fs::create_directories(staging);
+  }
   sph::ThreadLimit thread_limit(static_cast<std::size_t>(options.threads));
   RunContext ctx{staging, options.quiet, {}};
   ctx.report.scene = scene_name;
   ctx.report.parameters = parameters.to_json();
+  if (scene->checkpoints())
+    ctx.checkpoint = {true, options.checkpoint_interval,
+                      options.interrupt_at >= 0 ? options.interrupt_at : std::numeric_limits<double>::infinity(), checkpoint,
+                      scene_name, ctx.report.parameters.dump()};
+  InterruptSignals signals(scene->checkpoints());
+  if (checkpoint && !options.quiet)
+    std::cout << "resuming " << scene_name << " from its checkpoint at simulated time " << checkpoint->time << "\n" << std::flush;
   ctx.report.threads = sph::active_thread_count();
   const auto start = std::chrono::steady_clock::now();
   try {
     scene->run(ctx);
+  } catch (const sph::RunInterrupted& interrupted) {
+    ctx.report.status = "interrupted";
+    ctx.report.message = "stopped on request at simulated time " + exact(interrupted.time()) + "; continue with 'cardiosph " +
+                         scene_name + " --resume " + output.string() + "'";
+    result.exit_code = exit_interrupted;
+    std::cerr << "cardiosph " << scene_name << ": " << ctx.report.message << '\n';
   } catch (const sph::ParameterError&) {
     fs::remove_all(staging);
     throw;
@@ -86,8 +193,11 @@ SceneRunResult run_scene(const std::string& scene_name, const CommonOptions& opt
     std::cerr << "cardiosph " << scene_name << ": run failed: " << error.what() << '\n';
   }
   ctx.report.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // A completed run leaves nothing to resume; a failed or interrupted one keeps its last checkpoint.
+  if (result.exit_code == exit_ok) fs::remove(staging / sph::checkpoint_file_name);
   ctx.report.write(staging / "report.json");
   replace_folder(staging, output);
+  if (resuming && fs::exists(options.resume) && !fs::equivalent(options.resume, output)) fs::remove_all(options.resume);
   result.report = ctx.report;
   return result;
 }

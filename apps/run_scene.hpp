@@ -3,6 +3,14 @@
 // everything checked before a file is written; the run goes into "<output>.partial" and is renamed
 // to <output> when it ends (a failed run keeps its last good state and a report with status
 // "failed"); report.json written last.
+//
+// Checkpoints (scenes whose checkpoints() is true): --checkpoint-interval writes <output>/checkpoint.bin
+// every so much simulated time; Ctrl-C, SIGTERM or --interrupt-at write it and stop the run there
+// (status "interrupted", exit code 3, the folder renamed to <output> as for any run). `--resume DIR`
+// reads DIR/checkpoint.bin (DIR: an interrupted run, or the ".partial" folder of a killed one),
+// takes the scene's parameters from it, copies DIR into "<output>.resume", continues the run there
+// and replaces <output> with it when it ends. A checkpoint of another scene, format version, or a
+// truncated or damaged one is refused (exit 2) before anything is written.
 
 #include <filesystem>
 #include <string>
@@ -21,9 +29,13 @@ struct CommonOptions {
   bool quiet = false;
   bool print_parameters_only = false;  ///< print the parameters (after checks) and stop
   bool check_only = false;             ///< check the parameters and stop, silently
+  double checkpoint_interval = 0;      ///< > 0: a checkpoint every this much simulated time
+  double interrupt_at = -1;            ///< >= 0: stop with a checkpoint at the first step at or after this time
+  std::filesystem::path resume;        ///< continue the run in this folder from its checkpoint
 };
 
-enum ExitCode { exit_ok = 0, exit_run_failed = 1, exit_bad_input = 2 };
+/// 3: the run stopped on request (signal or --interrupt-at) with a checkpoint to resume from.
+enum ExitCode { exit_ok = 0, exit_run_failed = 1, exit_bad_input = 2, exit_interrupted = 3 };
 
 struct SceneRunResult {
   int exit_code = exit_ok;

@@ -111,6 +111,19 @@ class ActiveTension {
   Real step_start() const { return step_start_; }
   Real step_size() const { return step_size_; }
   const ActiveTensionSettings& settings() const { return settings_; }
+  /// Saves or loads the tension, the driving field at the last call, the crossbridge states and the
+  /// stretches (checkpoints).
+  void checkpoint(sph::StateArchive& archive) {
+    archive.io("synced_driver", synced_driver_);
+    archive.io("start", start_);
+    archive.io("end", end_);
+    archive.io("states", states_);
+    archive.io("stretch", stretch_);
+    archive.io("previous_stretch", previous_stretch_);
+    archive.io("stiffness", stiffness_);
+    archive.io("step_start", step_start_);
+    archive.io("step_size", step_size_);
+  }
 
  private:
   const sph::ParticleSet<Dim>& particles_;

@@ -12,6 +12,8 @@
 #include <cmath>
 #include <limits>
 
+#include "libsph/core/state_archive.hpp"
+
 namespace cardio {
 
 struct BeatMeasures {
@@ -49,6 +51,14 @@ class BeatRecorder {
     return m;
   }
   long samples() const { return count_; }
+  /// Saves or loads the measures of the beat so far (checkpoints).
+  void checkpoint(sph::StateArchive& archive) {
+    archive.io("measures", m_);
+    archive.io("count", count_);
+    archive.io("has_last", has_last_);
+    archive.io("last_t", last_t_);
+    archive.io("last_p", last_p_);
+  }
 
  private:
   double window_;

@@ -7,6 +7,8 @@
 #include <utility>
 #include <vector>
 
+#include "libsph/core/state_archive.hpp"
+
 namespace sph {
 class Parameters;
 }
@@ -37,6 +39,8 @@ class CavityPressure {
   /// The pressure of the circulation (circulation mode).
   void set(double pressure) { value_ = pressure; }
   bool active() const { return mode_ != CavityPressureMode::none; }
+  /// Saves or loads the value last set (checkpoints).
+  void checkpoint(sph::StateArchive& archive) { archive.io("value", value_); }
 
  private:
   CavityPressureMode mode_;

@@ -78,6 +78,8 @@
 #include <utility>
 #include <vector>
 
+#include "libsph/core/state_archive.hpp"
+
 namespace sph {
 class Parameters;
 }
@@ -271,6 +273,22 @@ class Circulation {
   /// flow; valve_<mv|av|tv|pv>_open; p_ao and p_pa in the Windkessel model; v_total.
   std::vector<std::string> columns() const;
   std::vector<double> row() const;
+  /// Saves or loads the state, the sources, the pressures, flows and valves, the coupled volumes
+  /// and the time (checkpoints); the network itself comes from the settings.
+  void checkpoint(sph::StateArchive& archive) {
+    archive.io("sources", sources_);
+    archive.io("state", state_);
+    archive.io("a", a_);
+    archive.io("b", b_);
+    archive.io("pressure", pressure_);
+    archive.io("flow", flow_);
+    archive.io("open", open_);
+    archive.io("volume_3d", volume_3d_);
+    archive.io("reference_pressure", reference_pressure_);
+    archive.io("time", time_);
+    archive.io("initialised", initialised_);
+    archive.io("unsettled_steps", unsettled_steps_);
+  }
 
  private:
   static constexpr int max_nodes = 8, max_links = 8, max_states = 12, max_sources = 4;

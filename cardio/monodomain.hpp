@@ -132,6 +132,18 @@ class Monodomain {
   const sph::ParticleSet<Dim>& particles() const { return particles_; }
   /// The stimulus regions, which may be changed between steps (e.g. a pulse timed by the state).
   std::vector<StimulusRegion>& stimuli() { return settings_.stimuli; }
+  /// Saves or loads what changes besides the particle fields (checkpoints): the diffusion tensors
+  /// (which follow the deformation, cardio/electromechanics.hpp; loading reassembles the operator),
+  /// the potential of the last step, the stimulus and the step counters. Stimuli changed during a run
+  /// (stimuli()) are not saved.
+  void checkpoint(sph::StateArchive& archive) {
+    std::vector<sph::Mat<Dim>> tensor = diffusion_tensor();
+    archive.io("diffusion_tensor", tensor);
+    if (archive.loading()) set_diffusion_tensor(std::move(tensor));
+    archive.io("stimulus", stimulus_);
+    archive.io("previous_potential", previous_potential_);
+    timers_.checkpoint(archive);
+  }
 
  private:
   using Reaction = std::variant<sph::ReactionSystem<Dim, sph::FitzHughNagumo>, sph::ReactionSystem<Dim, sph::AlievPanfilov>,

@@ -24,27 +24,6 @@ struct Outputs {
   nlohmann::json results;
 };
 
-std::string bytes_of(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-// Results without the keys that measure the run rather than the physics.
-nlohmann::json physics_only(const nlohmann::json& j) {
-  if (!j.is_object()) return j;
-  nlohmann::json out = nlohmann::json::object();
-  for (auto it = j.begin(); it != j.end(); ++it) {
-    const std::string& k = it.key();
-    const bool measures_the_run = k.find("second") != std::string::npos || k.find("wall") != std::string::npos ||
-                                  k.find("rss") != std::string::npos || k.find("timing") != std::string::npos ||
-                                  k.find("microseconds") != std::string::npos || k.find("per_second") != std::string::npos ||
-                                  k.find("from_cache") != std::string::npos || k == "threads";
-    if (!measures_the_run) out[k] = physics_only(it.value());
-  }
-  return out;
-}
 
 Outputs run(const std::string& scene_name, const std::vector<std::string>& assignments, std::size_t threads) {
   const auto* entry = cardiosph::find_scene(scene_name);
@@ -63,9 +42,9 @@ Outputs run(const std::string& scene_name, const std::vector<std::string>& assig
   Outputs r;
   for (const auto& file : fs::directory_iterator(folder.path())) {
     const auto extension = file.path().extension();
-    if (extension == ".vtu" || extension == ".csv") r.files[file.path().filename().string()] = bytes_of(file.path());
+    if (extension == ".vtu" || extension == ".csv") r.files[file.path().filename().string()] = test::bytes_of(file.path());
   }
-  r.results = physics_only(ctx.report.results);
+  r.results = test::physics_only(ctx.report.results);
   return r;
 }
 

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "libsph/io/checkpoint.hpp"
 #include "libsph/io/parameters.hpp"
 #include "libsph/io/run_report.hpp"
 
@@ -18,6 +19,9 @@ struct RunContext {
   std::filesystem::path output_dir;  ///< exists and is empty when the run starts
   bool quiet = false;
   sph::RunReport report;
+  /// Checkpoints asked for (--checkpoint-interval, --interrupt-at, signals, --resume); a scene that
+  /// saves its whole state passes it to its run harness (RunHarness::Options::checkpoint).
+  sph::CheckpointPlan checkpoint = {};
 };
 
 class Scene {
@@ -29,6 +33,8 @@ class Scene {
   virtual void check() const {}
   /// Runs the scene into ctx.output_dir and fills ctx.report (results, errors, particles, steps).
   virtual void run(RunContext& ctx) = 0;
+  /// Whether the run saves its whole state in checkpoints, so that it can be interrupted and resumed.
+  virtual bool checkpoints() const { return false; }
 };
 
 struct SceneEntry {

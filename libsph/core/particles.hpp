@@ -13,9 +13,11 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <typeinfo>
 #include <vector>
 
+#include "libsph/core/state_archive.hpp"
 #include "libsph/core/types.hpp"
 
 namespace sph {
@@ -42,6 +44,8 @@ class FieldArrayBase {
   virtual std::size_t bytes_per_particle() const = 0;
   /// values[k] = old values[order[k]] for every k of `order` (the new size).
   virtual void select(std::span<const Index> order) = 0;
+  /// Saves or loads the values under the field's name (checkpoints).
+  virtual void checkpoint(StateArchive& archive) = 0;
 
  private:
   std::string name_;
@@ -57,6 +61,10 @@ class FieldArray final : public FieldArrayBase {
   std::size_t size() const override { return values.size(); }
   std::size_t bytes_per_particle() const override { return sizeof(T); }
   void select(std::span<const Index> order) override { select_values(values, order, scratch_); }
+  void checkpoint(StateArchive& archive) override {
+    if constexpr (is_plain_data_v<T>) archive.io(name(), values);
+    else throw std::logic_error("field '" + name() + "' cannot be checkpointed: its values are not plain data");
+  }
   std::vector<T> values;
 
  private:
@@ -146,6 +154,23 @@ class ParticleSet {
     select_values(position, order, position_scratch_);
     select_values(volume, order, volume_scratch_);
     for (auto& f : fields_) f->select(order);
+  }
+
+  /// Saves or loads the positions, the volumes and every registered field (checkpoints). Loading
+  /// takes the particle count of the saved state and refuses a field of another length.
+  void checkpoint(StateArchive& archive) {
+    archive.io("position", position);
+    archive.io("volume", volume);
+    for (auto& f : fields_) f->checkpoint(archive);
+    if (archive.loading()) {
+      if (volume.size() != position.size())
+        throw StateError("particle set '" + name_ + "': the state has " + std::to_string(position.size()) + " positions and " +
+                         std::to_string(volume.size()) + " volumes");
+      for (const auto& f : fields_)
+        if (f->size() != position.size())
+          throw StateError("particle set '" + name_ + "': field '" + f->name() + "' has " + std::to_string(f->size()) +
+                           " values for " + std::to_string(position.size()) + " particles");
+    }
   }
 
   std::vector<VecD> position;  ///< current position [length unit of the scene]

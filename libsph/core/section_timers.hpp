@@ -7,6 +7,7 @@
 #include <string>
 #include <utility>
 
+#include "libsph/core/state_archive.hpp"
 #include "libsph/core/time_stepper.hpp"
 
 namespace sph {
@@ -40,6 +41,24 @@ class SectionTimers {
   std::size_t calls(const std::string& name) const {
     const auto it = sections_.find(name);
     return it == sections_.end() ? 0 : it->second.calls;
+  }
+  /// Saves or loads every section (checkpoints): a resumed run reports the whole run's calls and time.
+  void checkpoint(StateArchive& archive) {
+    std::string names;
+    std::vector<double> seconds;
+    std::vector<std::size_t> calls;
+    for (const auto& [name, section] : sections_) names += name + '\n', seconds.push_back(section.seconds), calls.push_back(section.calls);
+    archive.io("names", names);
+    archive.io("seconds", seconds);
+    archive.io("calls", calls);
+    if (archive.saving()) return;
+    std::size_t k = 0, start = 0;
+    for (std::size_t end = names.find('\n'); end != std::string::npos; start = end + 1, end = names.find('\n', start), ++k) {
+      if (k >= seconds.size() || k >= calls.size()) throw StateError("the state's timers list more names than values");
+      Section& section = sections_[names.substr(start, end - start)];  // in place: timed() holds references
+      section.seconds = seconds[k];
+      section.calls = calls[k];
+    }
   }
   /// name -> seconds, for report.json.
   std::map<std::string, double> all() const {

@@ -111,8 +111,33 @@ Real TimeStepper::next_event_time() const {
   return next;
 }
 
+void TimeStepper::checkpoint(StateArchive& archive) {
+  archive.io("time", info_.time);
+  archive.io("time_step", info_.time_step);
+  archive.io("step", info_.step);
+  archive.io("end_time", end_time_);
+  archive.io("stop_requested", stop_requested_);
+  std::size_t n_events = periodic_.size();
+  archive.io("events", n_events);
+  if (n_events != periodic_.size())
+    throw StateError("the state has " + std::to_string(n_events) + " events of the time stepper, the run declares " +
+                     std::to_string(periodic_.size()));
+  for (std::size_t k = 0; k < periodic_.size(); ++k) {
+    auto event = archive.part("event" + std::to_string(k));
+    event.io("next_index", periodic_[k].next_index);
+    event.io("last_fired", periodic_[k].last_fired);
+  }
+  if (archive.loading()) {
+    info_.start_time = start_time_;
+    info_.end_time = end_time_;
+    resumed_ = true;
+  }
+}
+
 std::size_t TimeStepper::run() {
-  StepInfo info{start_time_, 0, 0, start_time_, end_time_};
+  if (!resumed_) info_ = StepInfo{start_time_, 0, 0, start_time_, end_time_};
+  StepInfo& info = info_;
+  interrupted_ = false;
   // Fires what is due at time t: events whose time has been reached (a sampling event within a
   // billionth of its interval counts as reached, so an accumulated time one rounding short of the
   // grid does not delay it a step), and at the end time every event that asks for it once more.
@@ -128,13 +153,13 @@ std::size_t TimeStepper::run() {
       }
     }
   };
-  fire_due(start_time_);
+  if (!resumed_) fire_due(start_time_);
 
   Real quantum = 0;  // the smallest step quantum of the top-level stages
   for (const auto& stage : stages_)
     if (stage.step_quantum > 0) quantum = quantum > 0 ? std::min(quantum, stage.step_quantum) : stage.step_quantum;
 
-  Real t = start_time_;
+  Real t = info.time;
   while (t < end_time_) {
     const Real event = next_event_time();
     Real stable = std::numeric_limits<Real>::infinity();
@@ -161,7 +186,12 @@ std::size_t TimeStepper::run() {
     for (const auto& callback : step_callbacks_) callback(info);
     if (stop_requested_ && t < end_time_) end_time_ = info.end_time = t;
     fire_due(t);
+    if (interruption_check_ && t < end_time_ && interruption_check_(info)) {
+      interrupted_ = true;
+      break;
+    }
   }
+  resumed_ = false;
   return info.step;
 }
 

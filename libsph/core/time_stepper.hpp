@@ -35,6 +35,7 @@
 #include <string>
 #include <vector>
 
+#include "libsph/core/state_archive.hpp"
 #include "libsph/core/types.hpp"
 
 namespace sph {
@@ -104,6 +105,16 @@ class TimeStepper {
   /// callback(info) after every macro step.
   void add_step_callback(std::function<void(const StepInfo&)> callback);
 
+  /// check(info) after every macro step, once the events due at its time have fired; returning
+  /// true interrupts the run there: run() returns without the end-time events and interrupted()
+  /// is true (checkpoints: the state is then complete up to that time).
+  void set_interruption_check(std::function<bool(const StepInfo&)> check) { interruption_check_ = std::move(check); }
+  bool interrupted() const { return interrupted_; }
+  /// Saves or loads the time reached, the steps taken, the end time and every event's next time
+  /// (checkpoints). Between macro steps only; after loading, run() continues from the loaded time
+  /// without firing the start events again. The stages and events must be declared as when saved.
+  void checkpoint(StateArchive& archive);
+
   /// Ends the run after the current step (from a step callback): the periodic callbacks then fire
   /// once more at the time reached, as they do at the end time.
   void stop_after_this_step() { stop_requested_ = true; }
@@ -131,7 +142,11 @@ class TimeStepper {
   std::vector<Stage> stages_;
   std::vector<Periodic> periodic_;
   std::vector<std::function<void(const StepInfo&)>> step_callbacks_;
+  std::function<bool(const StepInfo&)> interruption_check_;
   bool stop_requested_ = false;
+  bool interrupted_ = false;
+  bool resumed_ = false;      ///< a loaded state: run() continues from info_
+  StepInfo info_;             ///< the time reached and the steps taken
 };
 
 }  // namespace sph

@@ -266,10 +266,15 @@ void Parameters::load_file(const std::filesystem::path& path) {
   if (!in) throw ParameterError("config file " + quoted(name) + " cannot be read: permission denied or I/O error");
   std::stringstream buffer;
   buffer << in.rdbuf();
-  const std::string text = buffer.str();
-  std::vector<std::pair<std::string, std::string>> values;
   const auto extension = path.extension().string();
-  if (extension == ".json") {
+  if (extension != ".json" && extension != ".toml")
+    throw ParameterError("config file " + quoted(name) + ": unknown format (expected a .toml or .json file)");
+  load_text(buffer.str(), extension.substr(1), name);
+}
+
+void Parameters::load_text(const std::string& text, const std::string& format, const std::string& name) {
+  std::vector<std::pair<std::string, std::string>> values;
+  if (format == "json") {
     nlohmann::json document;
     try {
       document = nlohmann::json::parse(text);
@@ -278,7 +283,7 @@ void Parameters::load_file(const std::filesystem::path& path) {
     }
     if (!document.is_object()) throw ParameterError("config file " + quoted(name) + ": top level must be an object");
     flatten_json(document, "", values, name);
-  } else if (extension == ".toml") {
+  } else if (format == "toml") {
     try {
       const toml::table table = toml::parse(text, name);
       flatten_toml(table, "", values, name);
@@ -289,7 +294,7 @@ void Parameters::load_file(const std::filesystem::path& path) {
       throw ParameterError(s.str());
     }
   } else {
-    throw ParameterError("config file " + quoted(name) + ": unknown format (expected a .toml or .json file)");
+    throw ParameterError("config " + quoted(name) + ": unknown format '" + format + "' (expected json or toml)");
   }
   for (const auto& [key, value] : values) set(key, value, name);
 }

@@ -113,6 +113,8 @@ class Parameters {
   void set(const std::string& key, const std::string& text, const std::string& origin);
   /// Applies every value of a .toml or .json file.
   void load_file(const std::filesystem::path& path);
+  /// Sets the values of a config text in `format` ("json" or "toml"); `name` names it in errors.
+  void load_text(const std::string& text, const std::string& format, const std::string& name);
   /// Applies "key=value".
   void set_assignment(const std::string& assignment, const std::string& origin);
   /// Re-checks every current value against its range (defaults included).

@@ -63,6 +63,23 @@ void ParticleOutput<Dim>::write(const ParticleSet<Dim>& particles, double time) 
   write_file_atomically(folder_ / (body_ + ".pvd"), pvd.str());
 }
 
+template <int Dim>
+void ParticleOutput<Dim>::checkpoint(StateArchive& archive) {
+  std::vector<double> times;
+  std::string names;
+  for (const auto& [t, file] : entries_) times.push_back(t), names += file + '\n';
+  archive.io("output_times", times);
+  archive.io("output_files", names);
+  if (archive.saving()) return;
+  entries_.clear();
+  std::istringstream lines(names);
+  std::string file;
+  for (const double t : times) {
+    if (!std::getline(lines, file)) throw StateError("the state lists fewer output files of '" + body_ + "' than output times");
+    entries_.emplace_back(t, file);
+  }
+}
+
 template class ParticleOutput<2>;
 template class ParticleOutput<3>;
 

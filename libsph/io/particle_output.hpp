@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "libsph/core/particles.hpp"
+#include "libsph/core/state_archive.hpp"
 
 namespace sph {
 
@@ -19,6 +20,8 @@ class ParticleOutput {
   ParticleOutput(std::filesystem::path folder, std::string body_name);
   void write(const ParticleSet<Dim>& particles, double time);
   std::size_t n_files() const { return entries_.size(); }
+  /// Saves or loads the list of files written (checkpoints); the files themselves stay in the folder.
+  void checkpoint(StateArchive& archive);
 
  private:
   std::filesystem::path folder_;

@@ -5,6 +5,7 @@
 #include <chrono>
 
 #include "libsph/core/numerical_failure.hpp"
+#include "libsph/io/parameters.hpp"
 #include "libsph/io/progress.hpp"
 
 namespace sph {
@@ -48,17 +49,72 @@ void RunHarness::add_time_series(const std::string& file, std::vector<std::strin
       false);
 }
 
+void RunHarness::add_state(const std::string& name, std::function<void(StateArchive&)> state) {
+  for (const auto& [existing, _] : states_)
+    if (existing == name) throw std::logic_error("run harness: two states named '" + name + "'");
+  states_.emplace_back(name, std::move(state));
+}
+
+void RunHarness::save_or_load(StateArchive& archive) {
+  auto stepper = archive.part("stepper");
+  stepper_.checkpoint(stepper);
+  auto harness = archive.part("harness");
+  harness.io("next_checkpoint", next_checkpoint_);
+  double loop_seconds = time_loop_before_ + std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start_).count();
+  harness.io("time_loop_seconds", loop_seconds);
+  if (archive.loading()) time_loop_before_ = loop_seconds;
+  timers_.checkpoint(harness);
+  for (std::size_t k = 0; k < series_.size(); ++k) {
+    auto series = archive.part("series" + std::to_string(k));
+    series_[k]->checkpoint(series);
+  }
+  for (auto& [name, state] : states_) {
+    auto part = archive.part(name);
+    state(part);
+  }
+}
+
+bool RunHarness::checkpoint_after_step(const StepInfo& s) {
+  const CheckpointPlan& plan = options_.checkpoint;
+  const double t = double(s.time), start = double(stepper_.start_time());
+  const double tolerance = plan.interval > 0 ? 1e-9 * plan.interval : 0.0;
+  const bool periodic = plan.interval > 0 && start + double(next_checkpoint_) * plan.interval <= t + tolerance;
+  const bool stop = interrupt_requested() || t >= plan.interrupt_at;
+  if (!periodic && !stop) return false;
+  while (plan.interval > 0 && start + double(next_checkpoint_) * plan.interval <= t + tolerance) ++next_checkpoint_;
+  timers_.measure("checkpoint", [&] {
+    Checkpoint checkpoint{plan.scene, plan.parameters, t, {}};
+    StateArchive archive(checkpoint.records, StateArchive::Mode::save);
+    save_or_load(archive);
+    write_checkpoint(options_.output_dir / checkpoint_file_name, checkpoint);
+  });
+  return stop;
+}
+
 void RunHarness::write_bodies(double time) {
   for (const auto& write : writers_) write(time);
 }
 
 std::size_t RunHarness::run() {
+  const CheckpointPlan& plan = options_.checkpoint;
+  if (plan.resume) {
+    if (!plan.enabled) throw std::logic_error("run harness: a checkpoint to resume from, but checkpoints are not enabled");
+    StateArchive archive(plan.resume->records, StateArchive::Mode::load);
+    try {
+      save_or_load(archive);
+    } catch (const StateError& error) {
+      throw ParameterError("checkpoint of '" + plan.resume->scene + "' does not fit this run: " + error.what());
+    }
+    last_completed_ = plan.resume->time;
+  }
+  if (plan.enabled) stepper_.set_interruption_check([this](const StepInfo& s) { return checkpoint_after_step(s); });
   progress_ = std::make_unique<Progress>(options_.label, options_.quiet);
   report_.simulated_time = double(stepper_.end_time());
-  const auto start = std::chrono::steady_clock::now();
+  loop_start_ = std::chrono::steady_clock::now();
+  const auto start = loop_start_;
   auto finish = [&] {
     progress_->finish();
-    time_loop_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    time_loop_seconds_ = time_loop_before_ + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     nlohmann::json seconds = nlohmann::json::object();
     for (const auto& [name, value] : timers_.all()) seconds[name] = value;
     seconds["time_loop"] = time_loop_seconds_;
@@ -75,8 +131,12 @@ std::size_t RunHarness::run() {
     throw;
   }
   finish();
-  report_.simulated_time = double(stepper_.end_time());
   for (auto& s : series_) s->close();
+  if (stepper_.interrupted()) {
+    report_.simulated_time = last_completed_;
+    throw RunInterrupted(last_completed_, options_.output_dir / checkpoint_file_name);
+  }
+  report_.simulated_time = double(stepper_.end_time());
   return report_.steps;
 }
 

@@ -16,7 +16,16 @@
 // every body once more as it stands at the failure (a solid has restored its last good state), sets
 // simulated_time to the last completed step, and passes the error on; the time series keep every
 // row recorded so far.
+//
+// Checkpoints (libsph/io/checkpoint.hpp), when Options::checkpoint is enabled: after every macro step
+// whose events have fired, the harness writes <output>/checkpoint.bin if a checkpoint interval has
+// passed, and also stops the run there (RunInterrupted, after closing the time series) when an
+// interruption was requested (signal, interrupt time). The state saved is the stepper's, the
+// harness's own (timers, next checkpoint), every body added (all of its fields and its output list),
+// every time series (its rows) and what the scene adds with add_state (its other changing
+// members). With Options::checkpoint.resume, run() loads all of it and continues from there.
 
+#include <chrono>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -26,7 +35,9 @@
 #include "libsph/core/neighbour_relation.hpp"
 #include "libsph/core/particles.hpp"
 #include "libsph/core/section_timers.hpp"
+#include "libsph/core/state_archive.hpp"
 #include "libsph/core/time_stepper.hpp"
+#include "libsph/io/checkpoint.hpp"
 #include "libsph/io/particle_output.hpp"
 #include "libsph/io/run_report.hpp"
 #include "libsph/io/time_series.hpp"
@@ -39,6 +50,7 @@ class RunHarness {
     std::filesystem::path output_dir;  ///< exists; every file goes here
     std::string label;                 ///< shown in the progress line
     bool quiet = false;
+    CheckpointPlan checkpoint = {};    ///< disabled unless the scene saves its whole state
   };
   /// Row of a time series after its time column.
   using Row = std::function<std::vector<double>(const StepInfo&)>;
@@ -63,15 +75,27 @@ class RunHarness {
   /// first step at or after every `interval`, and at the end.
   void add_time_series(const std::string& file, std::vector<std::string> columns, Real interval, Row row);
 
+  /// State of the scene beyond its bodies and series, saved and loaded under `name` by `state`
+  /// (the same function for both directions, see libsph/core/state_archive.hpp).
+  void add_state(const std::string& name, std::function<void(StateArchive&)> state);
+  /// A particle set that is not written as output but changes during the run (all its fields are saved).
+  template <int Dim>
+  void add_state(ParticleSet<Dim>& body) {
+    add_state("body/" + body.name(), [&body](StateArchive& a) { body.checkpoint(a); });
+  }
+
   /// Time spent in named parts (timed phases of the stages, sampling, output).
   SectionTimers& timers() { return timers_; }
   /// Runs the stepper (once); returns the number of macro steps (see above for the report and failures).
   std::size_t run();
-  /// Wall time of the time loop of run() [s].
+  /// Wall time of the time loop of run() [s] (resumed: with the time before the checkpoint).
   double time_loop_seconds() const { return time_loop_seconds_; }
 
  private:
   void write_bodies(double time);
+  void save_or_load(StateArchive& archive);
+  /// After a step: writes a checkpoint when one is due or asked for; true to stop the run there.
+  bool checkpoint_after_step(const StepInfo& s);
 
   TimeStepper& stepper_;
   RunReport& report_;
@@ -79,6 +103,10 @@ class RunHarness {
   SectionTimers timers_;
   std::vector<std::function<void(double)>> writers_;
   std::vector<std::unique_ptr<TimeSeriesCsv>> series_;
+  std::vector<std::pair<std::string, std::function<void(StateArchive&)>>> states_;
+  std::size_t next_checkpoint_ = 1;
+  double time_loop_before_ = 0;
+  std::chrono::steady_clock::time_point loop_start_;  ///< wall time of the time loop before the checkpoint resumed from  ///< the next periodic checkpoint is at start + next_checkpoint_ * interval
   double time_loop_seconds_ = 0;
   double last_completed_;
   std::unique_ptr<class Progress> progress_;
@@ -94,6 +122,10 @@ void RunHarness::add_body(ParticleSet<Dim>& body, Real output_interval, std::fun
     });
   };
   writers_.push_back(write);
+  add_state("body/" + body.name(), [&body, output](StateArchive& a) {
+    body.checkpoint(a);
+    output->checkpoint(a);
+  });
   const Real interval = output_interval > 0 ? output_interval : stepper_.end_time() - stepper_.start_time();
   if (interval > 0) stepper_.add_periodic_callback(interval, [write](const StepInfo& s) { write(double(s.time)); });
   else write(double(stepper_.start_time()));

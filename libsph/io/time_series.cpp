@@ -1,6 +1,7 @@
 #include "libsph/io/time_series.hpp"
 
 #include <iomanip>
+#include <iterator>
 #include <stdexcept>
 
 #include "libsph/io/atomic_file.hpp"
@@ -30,6 +31,25 @@ void TimeSeriesCsv::record(const std::vector<double>& row) {
   out_ << '\n';
   out_.flush();
   ++n_rows_;
+}
+
+void TimeSeriesCsv::checkpoint(StateArchive& archive) {
+  std::string rows;
+  if (archive.saving()) {
+    out_.flush();
+    std::ifstream in(partial_, std::ios::binary);
+    rows.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    if (!in.good() && !in.eof()) throw std::runtime_error("cannot read back the time series '" + partial_.string() + "'");
+  }
+  archive.io("rows", rows);
+  archive.io("row_count", n_rows_);
+  if (archive.loading()) {
+    out_.close();
+    out_.open(partial_, std::ios::binary | std::ios::trunc);
+    out_ << rows;
+    out_.flush();
+    if (!out_) throw std::runtime_error("cannot write the time series '" + partial_.string() + "'");
+  }
 }
 
 void TimeSeriesCsv::close() {

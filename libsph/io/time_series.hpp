@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "libsph/core/state_archive.hpp"
+
 namespace sph {
 
 class TimeSeriesCsv {
@@ -21,6 +23,9 @@ class TimeSeriesCsv {
   /// Appends a row (one value per column).
   void record(const std::vector<double>& row);
   std::size_t n_rows() const { return n_rows_; }
+  /// Saves the rows written so far, or loads them: the file then holds exactly those rows and
+  /// continues after them (checkpoints).
+  void checkpoint(StateArchive& archive);
   /// Finishes the file and gives it its final name (also done by the destructor).
   void close();
 

@@ -188,6 +188,16 @@ class ElasticSolid {
   void update_deformation_gradient() { compute_deformation_gradient(); }
   /// Recomputes F at the current positions and fills displacement, J, von Mises stress and fibre stretch.
   void update_output_fields();
+  /// Saves or loads what changes besides the particle fields (checkpoints): the step count, the
+  /// current sound speed, the largest acceleration, the last good state and the load accelerations.
+  void checkpoint(StateArchive& archive) {
+    archive.io("steps", steps_);
+    archive.io("current_sound_speed", current_sound_speed_);
+    archive.io("max_acceleration", max_acceleration_);
+    archive.io("previous_position", previous_position_);
+    archive.io("previous_velocity", previous_velocity_);
+    archive.io("load_acceleration", load_acceleration_);
+  }
   /// Kinetic energy sum 1/2 m v^2, strain energy sum V0 W(F) and the range of J at the current positions.
   Energies energies();
   /// Equilibrium check of a (quasi-)static state: the l2 norms over the unconstrained particles of

@@ -554,6 +554,18 @@ class HeartRecorder {
     run.add_time_series("observers.csv", observer_columns, Real(p.sample_interval), [this](const sph::StepInfo&) { return observer_row(); });
     stepper.add_event("end of beat", {Real(p.cycle_length), true, false, true, Real(beat_origin(p))},
                       [this](const sph::StepInfo&) { end_of_beat(); });
+    run.add_state("recorder", [this](sph::StateArchive& a) {
+      a.io("volume_min", volume_min_);
+      a.io("volume_max", volume_max_);
+      a.io("peak_pressure", peak_pressure_);
+      for (auto [name, value] : {std::pair{"min_J", &min_J_}, {"max_J", &max_J_}, {"peak_tension", &peak_tension_},
+                                 {"peak_kinetic", &peak_kinetic_}, {"peak_strain", &peak_strain_},
+                                 {"peak_displacement", &peak_displacement_}})
+        a.io(name, *value);
+      std::string end_of_beat = end_of_beat_.dump();
+      a.io("end_of_beat", end_of_beat);
+      if (a.loading()) end_of_beat_ = nlohmann::json::parse(end_of_beat);
+    });
   }
 
   void report(sph::RunReport& r) const {
@@ -669,6 +681,7 @@ class HeartCirculation {
       circulation_.initialise(0, v[0], v[1], 0, 0);
     }
     stepper.add_step_callback([this, &stepper](const sph::StepInfo& s) { after_step(s, stepper); });
+    run.add_state("circulation", [this](sph::StateArchive& a) { checkpoint(a); });
     auto columns = circulation_.columns();
     columns.erase(columns.begin());  // its own time: the run's time is the first column
     run.add_time_series("circulation.csv", columns, Real(p.sample_interval / 4), [this](const sph::StepInfo&) {
@@ -771,12 +784,32 @@ class HeartCirculation {
     return std::abs(b.stroke_volume - a.stroke_volume) / std::max(std::abs(b.stroke_volume), 1e-12);
   }
   std::array<double, 2> volumes() const { return {heart_.cavity_volume(lv_), heart_.cavity_volume(rv_)}; }
+  void checkpoint(sph::StateArchive& a) {
+    auto model = a.part("model");
+    circulation_.checkpoint(model);
+    a.io("started", started_);
+    a.io("initial_blood", initial_blood_);
+    for (int k = 0; k < 2; ++k) {
+      auto recorder = a.part("recorder" + std::to_string(k));
+      recorders_[k].checkpoint(recorder);
+    }
+    a.io("beats", beats_);
+    a.io("converged_at", converged_at_);
+    a.io("was_closed", was_closed_);
+    a.io("closed_volume", closed_volume_);
+    a.io("isovolumic_change", isovolumic_change_);
+    if (a.loading() && started_) couple_pressures();
+  }
   void start() {
     const auto v = volumes();
     circulation_.initialise(0, v[0], v[1], heart_.pressures[lv_].at(origin_), heart_.pressures[rv_].at(origin_));
     initial_blood_ = circulation_.total_blood_volume();
     started_ = true;
     set_pressures();
+    couple_pressures();
+  }
+  // The cavity loads take their pressures from the circulation at the current volumes.
+  void couple_pressures() {
     heart_.pressure_of_volume = [this](std::size_t c, double V) {
       return circulation_.pressure_at_volume(c == lv_ ? cardio::Ventricle::left : cardio::Ventricle::right, V);
     };
@@ -1031,6 +1064,7 @@ class HeartScene final : public Scene {
   }
 
   void run(RunContext& ctx) override;
+  bool checkpoints() const override { return true; }
 
  private:
   /// The SPHinXsys heart case (test_3d_heart_electromechanics, ../shared/PARITY.md) in this scene's
@@ -1140,7 +1174,7 @@ void HeartScene::run(RunContext& ctx) {
   // 3. Coupling: the electromechanical stage and its conduction update (cardio/electromechanics.hpp).
   const double end_time = p_.end_time > 0 ? p_.end_time : beat_origin(p_) + double(p_.beats) * p_.cycle_length;
   sph::TimeStepper stepper(0, Real(end_time));
-  sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, "heart", ctx.quiet});
+  sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, "heart", ctx.quiet, ctx.checkpoint});
   cardio::add_electromechanics<3>(stepper, heart.monodomain, heart.tension, heart.solid, p_.coupling, run.timers());
 
   // 4. Outputs and run.
@@ -1149,6 +1183,17 @@ void HeartScene::run(RunContext& ctx) {
     heart.monodomain.update_conduction_velocity();
   });
   run.add_relation("heart", heart.relation);
+  // What changes besides the particle fields (checkpoints; the relation is in the reference configuration).
+  run.add_state("heart", [&](sph::StateArchive& a) {
+    auto solid = a.part("solid"), monodomain = a.part("monodomain"), tension = a.part("tension");
+    heart.solid.checkpoint(solid);
+    heart.monodomain.checkpoint(monodomain);
+    heart.tension.checkpoint(tension);
+    for (std::size_t c = 0; c < heart.pressures.size(); ++c) {
+      auto pressure = a.part("pressure" + std::to_string(c));
+      heart.pressures[c].checkpoint(pressure);
+    }
+  });
   HeartRecorder recorder(heart, run, stepper, p_);
   std::optional<EcgRecorder> ecg;
   if (p_.ecg.mode != "none") {

@@ -110,6 +110,14 @@ EcgRecorder::EcgRecorder(const EcgParameters& p, std::vector<cardio::Electrode> 
     ++samples_;
     return row;
   });
+  run.add_state("ecg", [this](sph::StateArchive& a) {
+    a.io("lowest", lowest_);
+    a.io("highest", highest_);
+    a.io("time", time_);
+    a.io("rms", rms_);
+    a.io("seconds", seconds_);
+    a.io("samples", samples_);
+  });
 }
 
 void EcgRecorder::finish(const std::filesystem::path& folder, sph::RunReport& report, std::optional<Beat> beat) const {

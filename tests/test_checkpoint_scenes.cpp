@@ -1,0 +1,212 @@
+// Checkpoint and restart of the heart (geometry, mechanics, monodomain, Land tension, closed-loop
+// circulation, pseudo-ECG): a run interrupted at t (by --interrupt-at or by SIGTERM) and resumed
+// writes, byte for byte, every file of the uninterrupted run and the same physics in report.json;
+// periodic checkpoints do not change a run; a checkpoint of another scene, of another format
+// version, truncated or damaged is refused with exit code 2 and the interrupted run left untouched.
+#include <gtest/gtest.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <thread>
+
+#include "apps/cli.hpp"
+#include "libsph/io/checkpoint.hpp"
+#include "run_scene_for_test.hpp"
+#include "temporary_folder.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// A short heart: the circulation starts at 5 ms, the stimulus at 5 ms, outputs every 4 ms.
+std::vector<std::string> heart_arguments(const fs::path& cache, const fs::path& output) {
+  return {"heart", "--preset", "coarse", "--set", "preload_time=5", "--set", "pressure_ramp_time=5", "--set", "output_interval=4",
+          "--set", "sample_interval=1", "--set", "cache=" + cache.string(), "--end-time", "20", "--quiet", "--threads", "2",
+          "--output", output.string()};
+}
+
+struct Cli {
+  int code = 0;
+  std::string out, err;
+};
+
+Cli run(std::vector<std::string> args) {
+  args.insert(args.begin(), "cardiosph");
+  std::vector<const char*> argv;
+  for (const auto& a : args) argv.push_back(a.c_str());
+  testing::internal::CaptureStderr();
+  testing::internal::CaptureStdout();
+  Cli r;
+  r.code = cardiosph::run_cli(static_cast<int>(argv.size()), argv.data());
+  r.out = testing::internal::GetCapturedStdout();
+  r.err = testing::internal::GetCapturedStderr();
+  return r;
+}
+
+// Every file of a run folder but report.json and the checkpoint, by name.
+std::map<std::string, std::string> files_of(const fs::path& folder) {
+  std::map<std::string, std::string> files;
+  for (const auto& f : fs::directory_iterator(folder)) {
+    const auto name = f.path().filename().string();
+    if (name != "report.json" && name != sph::checkpoint_file_name) files[name] = test::bytes_of(f.path());
+  }
+  return files;
+}
+std::map<std::string, std::string> all_files_of(const fs::path& folder) {
+  std::map<std::string, std::string> files;
+  for (const auto& f : fs::directory_iterator(folder)) files[f.path().filename().string()] = test::bytes_of(f.path());
+  return files;
+}
+
+nlohmann::json report_of(const fs::path& folder) { return nlohmann::json::parse(test::bytes_of(folder / "report.json")); }
+
+void expect_same_run(const fs::path& expected, const fs::path& actual) {
+  const auto a = files_of(expected), b = files_of(actual);
+  ASSERT_EQ(a.size(), b.size());
+  std::size_t bytes = 0;
+  for (const auto& [name, content] : a) {
+    ASSERT_TRUE(b.count(name)) << name << " is missing";
+    EXPECT_TRUE(content == b.at(name)) << name << " differs";
+    bytes += content.size();
+  }
+  const auto ra = report_of(expected), rb = report_of(actual);
+  EXPECT_EQ(test::physics_only(ra["results"]), test::physics_only(rb["results"]));
+  EXPECT_EQ(ra["steps"], rb["steps"]);
+  EXPECT_EQ(ra["simulated_time"], rb["simulated_time"]);
+  std::cout << "  " << a.size() << " files, " << bytes << " bytes, identical\n";
+}
+
+class HeartCheckpoint : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    folder_ = new test::TemporaryFolder("heart_checkpoint");
+    const auto r = run(heart_arguments(cache(), full()));
+    ASSERT_EQ(r.code, 0) << r.err;
+  }
+  static void TearDownTestSuite() {
+    delete folder_;
+    folder_ = nullptr;
+  }
+  static fs::path cache() { return folder_->path() / "cache"; }
+  static fs::path full() { return folder_->path() / "full"; }
+  fs::path path(const std::string& name) const { return folder_->path() / name; }
+  // An interrupted run at 11 ms, for the refusals.
+  fs::path interrupted(const std::string& name) {
+    auto args = heart_arguments(cache(), path(name));
+    args.insert(args.end(), {"--interrupt-at", "11"});
+    const auto r = run(args);
+    EXPECT_EQ(r.code, 3) << r.err;
+    return path(name);
+  }
+
+  static test::TemporaryFolder* folder_;
+};
+test::TemporaryFolder* HeartCheckpoint::folder_ = nullptr;
+
+TEST_F(HeartCheckpoint, InterruptedAndResumedRunIsTheUninterruptedOne) {
+  const auto out = interrupted("part");
+  const auto report = report_of(out);
+  EXPECT_EQ(report["status"], "interrupted");
+  EXPECT_NE(report["message"].get<std::string>().find("--resume"), std::string::npos) << report["message"];
+  ASSERT_TRUE(fs::exists(out / sph::checkpoint_file_name));
+  const auto checkpoint = sph::read_checkpoint(out / sph::checkpoint_file_name);
+  std::cout << "  checkpoint at t = " << checkpoint.time << " ms: " << checkpoint.records.size() << " records, "
+            << fs::file_size(out / sph::checkpoint_file_name) << " bytes\n";
+  EXPECT_GE(checkpoint.time, 11.0);
+  EXPECT_LT(checkpoint.time, 12.0);
+
+  const auto r = run({"heart", "--resume", out.string(), "--quiet", "--threads", "2"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(report_of(out)["status"], "completed");
+  EXPECT_FALSE(fs::exists(out / sph::checkpoint_file_name)) << "a completed run keeps no checkpoint";
+  EXPECT_FALSE(fs::exists(out.string() + ".resume"));
+  expect_same_run(full(), out);
+}
+
+TEST_F(HeartCheckpoint, PeriodicCheckpointsDoNotChangeTheRun) {
+  auto args = heart_arguments(cache(), path("periodic"));
+  args.insert(args.end(), {"--checkpoint-interval", "4"});
+  const auto r = run(args);
+  ASSERT_EQ(r.code, 0) << r.err;
+  expect_same_run(full(), path("periodic"));
+}
+
+#ifdef CARDIOSPH_BINARY
+TEST_F(HeartCheckpoint, SigtermWritesACheckpointThatResumes) {
+  const fs::path out = path("signalled");
+  const auto args = heart_arguments(cache(), out);
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    std::vector<const char*> argv{CARDIOSPH_BINARY};
+    for (const auto& a : args) argv.push_back(a.c_str());
+    argv.push_back(nullptr);
+    const int devnull = ::open("/dev/null", O_WRONLY);
+    ::dup2(devnull, 1);
+    ::dup2(devnull, 2);
+    ::execv(CARDIOSPH_BINARY, const_cast<char* const*>(argv.data()));
+    ::_exit(127);
+  }
+  // Signal once the time loop runs (the third state is written at 8 ms, after the circulation has started).
+  const fs::path marker = fs::path(out.string() + ".partial") / "heart_00002.vtu";
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (!fs::exists(marker) && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  ASSERT_TRUE(fs::exists(marker));
+  ::kill(child, SIGTERM);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  ASSERT_EQ(WEXITSTATUS(status), 3) << "the run ended before the signal, or did not stop on it";
+  const auto time = sph::read_checkpoint(out / sph::checkpoint_file_name).time;
+  std::cout << "  SIGTERM: checkpoint at t = " << time << " ms\n";
+  const auto r = run({"heart", "--resume", out.string(), "--quiet"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  expect_same_run(full(), out);
+}
+#endif
+
+TEST_F(HeartCheckpoint, ForeignTruncatedOrDamagedCheckpointsAreRefused) {
+  const auto out = interrupted("refused");
+  const fs::path file = out / sph::checkpoint_file_name;
+  const std::string good = test::bytes_of(file);
+  auto expect_refused = [&](const std::string& bytes, const std::string& message, const std::string& scene = "heart") {
+    std::ofstream(file, std::ios::binary | std::ios::trunc) << bytes;
+    const auto before = all_files_of(out);
+    const auto r = run({scene, "--resume", out.string(), "--quiet"});
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+    EXPECT_TRUE(all_files_of(out) == before) << "the interrupted run was changed";
+    EXPECT_FALSE(fs::exists(out.string() + ".resume"));
+  };
+  expect_refused(good.substr(0, good.size() / 2), "is truncated");
+  std::string damaged = good;
+  damaged[good.size() / 2] ^= 0x10;
+  expect_refused(damaged, "hash does not match");
+  std::string version = good;
+  const std::uint32_t next = sph::checkpoint_format_version + 1;
+  std::memcpy(version.data() + 21, &next, sizeof(next));
+  expect_refused(version, "has format version");
+  auto foreign = sph::parse_checkpoint(good, "good");
+  foreign.scene = "land-lv";
+  expect_refused(sph::serialise_checkpoint(foreign), "is of scene 'land-lv', not 'heart'");
+  // A scene that cannot checkpoint, and parameters given with --resume.
+  expect_refused(good, "cannot be checkpointed or resumed", "dambreak");
+  std::ofstream(file, std::ios::binary | std::ios::trunc) << good;
+  const auto r = run({"heart", "--resume", out.string(), "--set", "dp=2"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("cannot be given with it"), std::string::npos) << r.err;
+  // A checkpoint whose records do not fit the run (a record removed): refused, folder untouched.
+  auto short_of_a_record = sph::parse_checkpoint(good, "good");
+  short_of_a_record.records.erase(short_of_a_record.records.begin());
+  expect_refused(sph::serialise_checkpoint(short_of_a_record), "does not fit this run");
+}
+
+}  // namespace
