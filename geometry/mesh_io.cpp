@@ -8,6 +8,8 @@
 //   header begins with "solid" and whose size does not match (truncated, or padded at the end) is
 //   then parsed as ASCII and gives garbage or a confusing error, so the size is checked here first.
 // - NaN and infinite coordinates are accepted: checked here after reading.
+// - A PLY header with a malformed element or property line (a count that is not a number, a
+//   misspelt keyword) can make its PLY reader loop forever; the header is checked here first.
 
 #include <algorithm>
 #include <array>
@@ -18,6 +20,7 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <vector>
 #include <optional>
 #include <sstream>
 #include <string_view>
@@ -197,6 +200,61 @@ struct SceneReader {
   }
 };
 
+// The PLY header (Bourke's format description): "ply", "format ascii|binary_little_endian|
+// binary_big_endian 1.0", then "element NAME COUNT", "property TYPE NAME", "property list TYPE
+// TYPE NAME", "comment ...", "obj_info ..." lines up to "end_header". Anything else is refused.
+void check_ply_header(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  auto words_of = [](const std::string& l) {
+    std::vector<std::string> words;
+    std::istringstream s(l);
+    for (std::string w; s >> w;) words.push_back(w);
+    return words;
+  };
+  static const std::array<std::string, 16> types{"char", "uchar", "short", "ushort", "int", "uint", "float", "double",
+                                                 "int8", "uint8", "int16", "uint16", "int32", "uint32", "float32", "float64"};
+  auto is_type = [&](const std::string& t) { return std::find(types.begin(), types.end(), t) != types.end(); };
+  long number = 0;
+  bool elements = false;
+  while (std::getline(in, line) && number < 10000) {
+    ++number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const auto w = words_of(line);
+    auto bad = [&](const std::string& what) {
+      fail(path, "not a valid PLY header: line " + std::to_string(number) + " ('" + line.substr(0, 60) + "') " + what);
+    };
+    if (number == 1) {
+      if (w.size() != 1 || w[0] != "ply") bad("should be 'ply'");
+      continue;
+    }
+    if (number == 2) {
+      if (w.size() != 3 || w[0] != "format" || (w[1] != "ascii" && w[1] != "binary_little_endian" && w[1] != "binary_big_endian"))
+        bad("should be 'format ascii|binary_little_endian|binary_big_endian 1.0'");
+      continue;
+    }
+    if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
+    if (w[0] == "end_header") {
+      if (w.size() != 1) bad("should be 'end_header'");
+      if (!elements) bad("ends a header without elements");
+      return;
+    }
+    if (w[0] == "element") {
+      if (w.size() != 3 || w[2].find_first_not_of("0123456789") != std::string::npos || w[2].size() > 12)
+        bad("should be 'element NAME COUNT'");
+      elements = true;
+    } else if (w[0] == "property") {
+      const bool scalar = w.size() == 3 && is_type(w[1]);
+      const bool list = w.size() == 5 && w[1] == "list" && is_type(w[2]) && is_type(w[3]);
+      if (!scalar && !list) bad("should be 'property TYPE NAME' or 'property list TYPE TYPE NAME'");
+      if (!elements) bad("is a property before any element");
+    } else {
+      bad("is not a PLY header line");
+    }
+  }
+  fail(path, "not a valid PLY file: no 'end_header' line");
+}
+
 }  // namespace
 
 TriangleMesh read_mesh(const std::filesystem::path& path, double scale) {
@@ -212,6 +270,7 @@ TriangleMesh read_mesh(const std::filesystem::path& path, double scale) {
 
   std::optional<std::size_t> binary_stl_bytes;
   if (lower_case_extension(path) == ".stl") binary_stl_bytes = check_stl_file(path, file_size);
+  if (lower_case_extension(path) == ".ply") check_ply_header(path);
 
   // No aiProcess_JoinIdenticalVertices (we weld), nothing that merges, sorts or drops faces.
   constexpr unsigned flags = aiProcess_Triangulate | aiProcess_ValidateDataStructure;

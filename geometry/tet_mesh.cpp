@@ -63,11 +63,17 @@ struct TextLines {
     if (used != words[k].size()) fail_here("'" + words[k] + "' is not a number");
     return value;
   }
+  /// The count on the first line: a whole number no larger than the lines the file can still hold
+  /// (each entry is a line of at least two bytes), so that no count makes the reader reserve more
+  /// memory than the file's size.
   long count_line() {
     std::vector<std::string> w;
     if (!next(w)) fail_here("empty file");
     const double c = number_at(w, 0);
-    if (w.size() != 1 || c < 0 || c != std::floor(c)) fail_here("expected the number of entries on the first line");
+    if (w.size() != 1 || !(c >= 0) || c != std::floor(c)) fail_here("expected the number of entries on the first line");
+    std::error_code ec;
+    const auto size = fs::file_size(path, ec);
+    if (ec || c > double(size) / 2) fail_here("the count " + w[0] + " is more entries than the file can hold");
     return long(c);
   }
 };
@@ -117,7 +123,9 @@ TetMesh read_opencarp(const fs::path& path, double scale) {
         t[std::size_t(k)] = std::uint32_t(v);
       }
       mesh.tets.push_back(t);
-      mesh.tet_region.push_back(w.size() == 6 ? int(lines.number_at(w, 5)) : 0);
+      const double tag = w.size() == 6 ? lines.number_at(w, 5) : 0.0;
+      if (!(std::abs(tag) < 1e9) || tag != std::floor(tag)) lines.fail_here(element + ": the tag " + w[5] + " is not a whole number");
+      mesh.tet_region.push_back(int(tag));
     }
     if (long(mesh.tets.size()) != n)
       fail(elem, "the header announces " + std::to_string(n) + " elements but the file holds " + std::to_string(mesh.tets.size()));

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <string>
 
 #include <vtkCellData.h>
@@ -70,11 +71,23 @@ std::vector<Vec3> vectors(const fs::path& path, vtkDataArray* a, const std::vect
   std::vector<Vec3> out;
   out.reserve(rows.size());
   for (vtkIdType r : rows) {
+    if (r >= a->GetNumberOfTuples())
+      fail(path, std::string(what) + " array '" + a->GetName() + "' has " + std::to_string(a->GetNumberOfTuples()) +
+                     " values, too few for its points or cells");
     double v[3];
     a->GetTuple(r, v);
     out.emplace_back(v[0], v[1], v[2]);
   }
   return out;
+}
+
+// A cell must have `corners` points, each a point of the grid.
+void check_cell(const fs::path& path, vtkIdType cell, vtkIdType n, vtkIdType corners, const vtkIdType* ids, vtkIdType n_points) {
+  if (n < corners || ids == nullptr)
+    fail(path, "cell " + std::to_string(cell) + " has " + std::to_string(n) + " points, expected " + std::to_string(corners));
+  for (vtkIdType k = 0; k < corners; ++k)
+    if (ids[k] < 0 || ids[k] >= n_points)
+      fail(path, "cell " + std::to_string(cell) + " refers to point " + std::to_string(ids[k]) + " of " + std::to_string(n_points));
 }
 
 }  // namespace
@@ -113,6 +126,7 @@ TetMesh read_vtu_tets(const fs::path& path, double scale) {
       vtkIdType n = 0;
       const vtkIdType* ids = nullptr;
       grid->GetCellPoints(c, n, ids);
+      check_cell(path, c, n, 4, ids, n_points);
       std::array<std::uint32_t, 4> t{};
       for (int k = 0; k < 4; ++k) t[std::size_t(k)] = std::uint32_t(ids[k]);
       mesh.tets.push_back(t);
@@ -121,6 +135,7 @@ TetMesh read_vtu_tets(const fs::path& path, double scale) {
       vtkIdType n = 0;
       const vtkIdType* ids = nullptr;
       grid->GetCellPoints(c, n, ids);
+      check_cell(path, c, n, 3, ids, n_points);
       mesh.tagged_faces.push_back({std::uint32_t(ids[0]), std::uint32_t(ids[1]), std::uint32_t(ids[2])});
       triangle_cells.push_back(c);
     } else if (grid->GetCell(c)->GetCellDimension() == 3) {
@@ -145,8 +160,17 @@ TetMesh read_vtu_tets(const fs::path& path, double scale) {
     if (r->GetNumberOfComponents() != 1)
       fail(path, std::string("region array '") + r->GetName() + "' has " + std::to_string(r->GetNumberOfComponents()) +
                      " components, expected 1");
-    for (vtkIdType c : tet_cells) mesh.tet_region.push_back(int(r->GetComponent(c, 0)));
-    for (vtkIdType c : triangle_cells) mesh.tagged_face_region.push_back(int(r->GetComponent(c, 0)));
+    if (r->GetNumberOfTuples() != grid->GetNumberOfCells())
+      fail(path, std::string("region array '") + r->GetName() + "' has " + std::to_string(r->GetNumberOfTuples()) +
+                     " values for " + std::to_string(grid->GetNumberOfCells()) + " cells");
+    auto tag = [&](vtkIdType c) {
+      const double value = r->GetComponent(c, 0);
+      if (!(std::abs(value) < 1e9) || value != std::floor(value))
+        fail(path, "cell " + std::to_string(c) + " has the region tag " + std::to_string(value) + ", not a whole number");
+      return int(value);
+    };
+    for (vtkIdType c : tet_cells) mesh.tet_region.push_back(tag(c));
+    for (vtkIdType c : triangle_cells) mesh.tagged_face_region.push_back(tag(c));
   }
   if (mesh.tagged_face_region.size() != mesh.tagged_faces.size()) mesh.tagged_faces.clear();  // untagged triangles
   for (const auto& f : mesh.tagged_faces)

@@ -278,7 +278,7 @@ void Parameters::load_text(const std::string& text, const std::string& format, c
     nlohmann::json document;
     try {
       document = nlohmann::json::parse(text);
-    } catch (const nlohmann::json::parse_error& error) {
+    } catch (const nlohmann::json::exception& error) {  // a syntax error, or a number beyond double's range
       throw ParameterError("config file " + quoted(name) + " is not valid JSON: " + error.what());
     }
     if (!document.is_object()) throw ParameterError("config file " + quoted(name) + ": top level must be an object");
