@@ -16,7 +16,7 @@
 #include <map>
 #include <thread>
 
-#include "apps/cli.hpp"
+#include "cli_for_test.hpp"
 #include "libsph/io/checkpoint.hpp"
 #include "run_scene_for_test.hpp"
 #include "temporary_folder.hpp"
@@ -32,23 +32,7 @@ std::vector<std::string> heart_arguments(const fs::path& cache, const fs::path& 
           "--output", output.string()};
 }
 
-struct Cli {
-  int code = 0;
-  std::string out, err;
-};
-
-Cli run(std::vector<std::string> args) {
-  args.insert(args.begin(), "cardiosph");
-  std::vector<const char*> argv;
-  for (const auto& a : args) argv.push_back(a.c_str());
-  testing::internal::CaptureStderr();
-  testing::internal::CaptureStdout();
-  Cli r;
-  r.code = cardiosph::run_cli(static_cast<int>(argv.size()), argv.data());
-  r.out = testing::internal::GetCapturedStdout();
-  r.err = testing::internal::GetCapturedStderr();
-  return r;
-}
+test::CliRun run(std::vector<std::string> args) { return test::run_cli(std::move(args)); }
 
 // Every file of a run folder but report.json and the checkpoint, by name.
 std::map<std::string, std::string> files_of(const fs::path& folder) {

@@ -11,7 +11,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "apps/cli.hpp"
+#include "cli_for_test.hpp"
 #include "temporary_folder.hpp"
 
 namespace {
@@ -27,15 +27,10 @@ class Cli : public ::testing::Test {
   void TearDown() override { scratch_.reset(); }
 
   int run(std::vector<std::string> args) {
-    args.insert(args.begin(), "cardiosph");
-    std::vector<const char*> argv;
-    for (const auto& a : args) argv.push_back(a.c_str());
-    testing::internal::CaptureStderr();
-    testing::internal::CaptureStdout();
-    const int code = cardiosph::run_cli(static_cast<int>(argv.size()), argv.data());
-    stdout_ = testing::internal::GetCapturedStdout();
-    stderr_ = testing::internal::GetCapturedStderr();
-    return code;
+    const auto r = test::run_cli(std::move(args));
+    stdout_ = r.out;
+    stderr_ = r.err;
+    return r.code;
   }
   // Runs a bad input and checks exit code 2, the message, and that nothing was written.
   void expect_rejected(std::vector<std::string> args, const std::string& message_part) {
