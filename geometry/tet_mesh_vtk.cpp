@@ -138,7 +138,9 @@ TetMesh read_vtu_tets(const fs::path& path, double scale) {
       check_cell(path, c, n, 3, ids, n_points);
       mesh.tagged_faces.push_back({std::uint32_t(ids[0]), std::uint32_t(ids[1]), std::uint32_t(ids[2])});
       triangle_cells.push_back(c);
-    } else if (grid->GetCell(c)->GetCellDimension() == 3) {
+    } else if (vtkCell* cell = grid->GetCell(c); cell == nullptr) {
+      fail(path, "cell " + std::to_string(c) + " has the unknown VTK cell type " + std::to_string(type));
+    } else if (cell->GetCellDimension() == 3) {
       fail(path, "cell " + std::to_string(c) + " is a " + vtkCellTypes::GetClassNameFromTypeId(type) +
                      ": only tetrahedra are read");
     }

@@ -90,6 +90,27 @@ TEST(FuzzRegression, OpenCarpCountsBeyondTheFileAreRefused) {
   fs::remove(elem);
 }
 
+TEST(FuzzRegression, VtuCellOfUnknownTypeIsNamed) {
+  // VTK returns no cell object for a type it does not know (92 here); it was dereferenced.
+  const auto path = write_file("unknown.vtu", R"(<?xml version="1.0"?>
+<VTKFile type="UnstructuredGrid" version="0.1" byte_order="LittleEndian">
+  <UnstructuredGrid>
+    <Piece NumberOfPoints="4" NumberOfCells="2">
+      <Points><DataArray type="Float64" NumberOfComponents="3" format="ascii">0 0 0 1 0 0 0 1 0 0 0 1</DataArray></Points>
+      <Cells>
+        <DataArray type="Int64" Name="connectivity" format="ascii">0 1 2 3 0 1 2</DataArray>
+        <DataArray type="Int64" Name="offsets" format="ascii">4 7</DataArray>
+        <DataArray type="UInt8" Name="types" format="ascii">10 92</DataArray>
+      </Cells>
+    </Piece>
+  </UnstructuredGrid>
+</VTKFile>
+)");
+  const auto message = error_of([&] { geometry::read_tet_mesh(path); });
+  EXPECT_NE(message.find("cell 1 has the unknown VTK cell type 92"), std::string::npos) << message;
+  fs::remove(path);
+}
+
 TEST(FuzzRegression, JsonNumberBeyondDoubleIsABadConfigNotACrash) {
   // nlohmann::json throws out_of_range (not parse_error) for 89e489; it escaped as a crash.
   sph::Parameters p;
