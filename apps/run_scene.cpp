@@ -1,6 +1,7 @@
 #include "apps/run_scene.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
@@ -103,12 +104,15 @@ SceneRunResult run_scene(const std::string& scene_name, const CommonOptions& opt
   // presets on what those left alone; then checks.
   auto scene = entry->make();
   const bool resuming = !options.resume.empty();
-  const bool wants_checkpoints = resuming || options.checkpoint_interval > 0 || options.interrupt_at >= 0;
+  const bool interrupt_asked = !std::isnan(options.interrupt_at);
+  const bool wants_checkpoints = resuming || options.checkpoint_interval > 0 || interrupt_asked;
   if (wants_checkpoints && !scene->checkpoints())
     throw sph::ParameterError("scene '" + scene_name + "' does not save its whole state, so it cannot be checkpointed or resumed "
                               "(--checkpoint-interval, --interrupt-at, --resume); scenes that can: heart");
   if (!(options.checkpoint_interval >= 0) || !std::isfinite(options.checkpoint_interval))
     throw sph::ParameterError("option '--checkpoint-interval' = " + exact(options.checkpoint_interval) + ": must be >= 0 (simulated time)");
+  if (interrupt_asked && !(options.interrupt_at >= 0 && std::isfinite(options.interrupt_at)))
+    throw sph::ParameterError("option '--interrupt-at' = " + exact(options.interrupt_at) + ": must be a simulated time >= 0");
   std::shared_ptr<sph::Checkpoint> checkpoint;
   fs::path resume_output;
   if (resuming) {
@@ -164,7 +168,7 @@ SceneRunResult run_scene(const std::string& scene_name, const CommonOptions& opt
   ctx.report.parameters = parameters.to_json();
   if (scene->checkpoints())
     ctx.checkpoint = {true, options.checkpoint_interval,
-                      options.interrupt_at >= 0 ? options.interrupt_at : std::numeric_limits<double>::infinity(), checkpoint,
+                      interrupt_asked ? options.interrupt_at : std::numeric_limits<double>::infinity(), checkpoint,
                       scene_name, ctx.report.parameters.dump()};
   InterruptSignals signals(scene->checkpoints());
   if (checkpoint && !options.quiet)

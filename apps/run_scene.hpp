@@ -13,6 +13,7 @@
 // truncated or damaged one is refused (exit 2) before anything is written.
 
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -30,7 +31,8 @@ struct CommonOptions {
   bool print_parameters_only = false;  ///< print the parameters (after checks) and stop
   bool check_only = false;             ///< check the parameters and stop, silently
   double checkpoint_interval = 0;      ///< > 0: a checkpoint every this much simulated time
-  double interrupt_at = -1;            ///< >= 0: stop with a checkpoint at the first step at or after this time
+  /// Stop with a checkpoint at the first step at or after this time (NaN: not asked for).
+  double interrupt_at = std::numeric_limits<double>::quiet_NaN();
   std::filesystem::path resume;        ///< continue the run in this folder from its checkpoint
 };
 
