@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <iterator>
+#include <fstream>
 #include <string>
 
 #include <vtkCellData.h>
@@ -90,9 +92,34 @@ void check_cell(const fs::path& path, vtkIdType cell, vtkIdType n, vtkIdType cor
       fail(path, "cell " + std::to_string(cell) + " refers to point " + std::to_string(ids[k]) + " of " + std::to_string(n_points));
 }
 
+// The sizes a .vtu announces, checked before VTK allocates them: VTK 9.1 creates a name for every
+// component of an array and spends minutes (and gigabytes) on NumberOfComponents="4444444444".
+// Arrays of up to 64 components are read (tensors have 9); the point and cell counts may not exceed
+// what the file could hold, 1100 values per byte (zlib's largest compression ratio is about 1032).
+void check_vtu_sizes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  auto each = [&](const std::string& attribute, double limit) {
+    const std::string key = attribute + "=\"";
+    for (auto at = text.find(key); at != std::string::npos; at = text.find(key, at + 1)) {
+      const auto start = at + key.size(), end = text.find('"', start);
+      if (end == std::string::npos || end - start > 15) fail(path, attribute + " is not a count");
+      const std::string value = text.substr(start, end - start);
+      if (value.empty() || value.find_first_not_of("0123456789") != std::string::npos) fail(path, attribute + " = '" + value + "' is not a count");
+      if (std::stod(value) > limit)
+        fail(path, attribute + " = " + value + " is more than the file can hold" +
+                       (attribute == "NumberOfComponents" ? " (at most 64 components are read)" : ""));
+    }
+  };
+  each("NumberOfComponents", 64);
+  each("NumberOfPoints", 1100.0 * double(text.size()));
+  each("NumberOfCells", 1100.0 * double(text.size()));
+}
+
 }  // namespace
 
 TetMesh read_vtu_tets(const fs::path& path, double scale) {
+  check_vtu_sizes(path);
   vtkNew<vtkXMLUnstructuredGridReader> reader;
   vtkNew<ErrorCollector> errors;
   reader->AddObserver(vtkCommand::ErrorEvent, errors);

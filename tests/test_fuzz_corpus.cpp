@@ -111,6 +111,22 @@ TEST(FuzzRegression, VtuCellOfUnknownTypeIsNamed) {
   fs::remove(path);
 }
 
+TEST(FuzzRegression, VtuSizesBeyondTheFileAreRefusedBeforeVtkAllocates) {
+  // VTK spent minutes naming the components of NumberOfComponents="4444444444".
+  const auto path = write_file("huge.vtu", R"(<?xml version="1.0"?>
+<VTKFile type="UnstructuredGrid" version="0.1" byte_order="LittleEndian">
+  <UnstructuredGrid>
+    <Piece NumberOfPoints="4" NumberOfCells="1">
+      <PointData><DataArray type="Float64" Name="fibre" NumberOfComponents="4444444444" format="ascii">1 0 0</DataArray></PointData>
+    </Piece>
+  </UnstructuredGrid>
+</VTKFile>
+)");
+  const auto message = error_of([&] { geometry::read_tet_mesh(path); });
+  EXPECT_NE(message.find("NumberOfComponents = 4444444444 is more than the file can hold"), std::string::npos) << message;
+  fs::remove(path);
+}
+
 TEST(FuzzRegression, JsonNumberBeyondDoubleIsABadConfigNotACrash) {
   // nlohmann::json throws out_of_range (not parse_error) for 89e489; it escaped as a crash.
   sph::Parameters p;
