@@ -184,18 +184,25 @@ struct SceneReader {
     int region_index = -1;  // made on the first triangle, so that no region is empty
     for (unsigned f = 0; f < part.mNumFaces; ++f) {
       const aiFace& face = part.mFaces[f];
-      if (face.mNumIndices != 3) {  // aiProcess_Triangulate leaves points and lines alone
+      if (face.mNumIndices < 3) {  // points and lines
         ++skipped_primitives;
         continue;
       }
-      std::array<std::uint32_t, 3> corners{};
-      for (int c = 0; c < 3; ++c) {
+      std::vector<std::uint32_t> polygon(face.mNumIndices);
+      for (unsigned c = 0; c < face.mNumIndices; ++c) {
+        if (face.mIndices[c] >= part.mNumVertices)
+          throw MeshError("face " + std::to_string(f) + " refers to vertex " + std::to_string(face.mIndices[c]) + " of " +
+                          std::to_string(part.mNumVertices));
         const aiVector3D& v = part.mVertices[face.mIndices[c]];
-        corners[c] = welder.index_of(moved ? transform * v : v);
+        polygon[c] = welder.index_of(moved ? transform * v : v);
       }
       if (region_index < 0) region_index = region(name);
-      mesh.faces.push_back(corners);
-      mesh.face_region.push_back(region_index);
+      // A polygon as a fan of triangles from its first corner (exact for the convex quads and
+      // polygons of mesh files).
+      for (std::size_t c = 1; c + 1 < polygon.size(); ++c) {
+        mesh.faces.push_back({polygon[0], polygon[c], polygon[c + 1]});
+        mesh.face_region.push_back(region_index);
+      }
     }
   }
 };
@@ -273,7 +280,9 @@ TriangleMesh read_mesh(const std::filesystem::path& path, double scale) {
   if (lower_case_extension(path) == ".ply") check_ply_header(path);
 
   // No aiProcess_JoinIdenticalVertices (we weld), nothing that merges, sorts or drops faces.
-  constexpr unsigned flags = aiProcess_Triangulate | aiProcess_ValidateDataStructure;
+  // Polygons are split into triangles below: assimp's aiProcess_Triangulate aborts the process (an
+  // assertion in the Debian build) on some malformed PLY faces.
+  constexpr unsigned flags = aiProcess_ValidateDataStructure;
   Assimp::Importer importer;
   const aiScene* scene = nullptr;
   if (binary_stl_bytes) {
@@ -291,7 +300,11 @@ TriangleMesh read_mesh(const std::filesystem::path& path, double scale) {
 
   TriangleMesh mesh;
   SceneReader reader{*scene, mesh, VertexWelder(mesh.vertices), {}, 0};
-  reader.add_node(*scene->mRootNode, aiMatrix4x4());
+  try {
+    reader.add_node(*scene->mRootNode, aiMatrix4x4());
+  } catch (const MeshError& bad_face) {
+    fail(path, bad_face.what());
+  }
   if (mesh.faces.empty())
     fail(path, "contains no triangles" +
                    (reader.skipped_primitives > 0

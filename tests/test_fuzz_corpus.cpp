@@ -74,6 +74,22 @@ TEST(FuzzRegression, PlyHeaderWithAMalformedLineIsRefusedNotLoopedOn) {
   fs::remove(typo);
 }
 
+TEST(FuzzRegression, PlyWithBrokenFacesDoesNotAbortInAssimp) {
+  // assimp's triangulation asserted (abort) on faces parsed from garbage after the vertices; the
+  // polygons are now split here. Four vertices announced, three given, faces out of step.
+  const auto path = write_file("faces.ply",
+                               "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                               "element face 4\nproperty list uchar int vertex_indices\nend_header\n1 0 0\n0 1 0\n0 0 1\n"
+                               "3 0 2 1\n3 0 1 3\nloat  2\n3 1 2 3\n");
+  const auto message = error_of([&] { geometry::read_mesh(path); });
+  EXPECT_TRUE(message.empty() || message.find("faces.ply") != std::string::npos) << message;
+  // A quad is still read, as two triangles.
+  const auto quad = write_file("quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
+  EXPECT_EQ(geometry::read_mesh(quad).faces.size(), 2u);
+  fs::remove(path);
+  fs::remove(quad);
+}
+
 TEST(FuzzRegression, OpenCarpCountsBeyondTheFileAreRefused) {
   // "-inf" and "inf" counts were converted to long (undefined behaviour); a count of 1e12 reserved
   // terabytes. A count must be a whole number of entries that the file can hold.
