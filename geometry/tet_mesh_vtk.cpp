@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cmath>
 #include <iterator>
+#include <new>
 #include <fstream>
 #include <string>
 
@@ -125,7 +126,11 @@ TetMesh read_vtu_tets(const fs::path& path, double scale) {
   reader->AddObserver(vtkCommand::ErrorEvent, errors);
   if (!reader->CanReadFile(path.string().c_str())) fail(path, "not a VTK XML unstructured grid");
   reader->SetFileName(path.string().c_str());
-  reader->Update();
+  try {
+    reader->Update();
+  } catch (const std::bad_alloc&) {  // e.g. an offsets array announcing 4e17 connectivity entries
+    fail(path, "VTK could not allocate what the file announces (a size beyond what it holds)");
+  }
   if (!errors->message.empty() || reader->GetErrorCode() != 0) {
     std::string m = errors->message;
     m.erase(std::remove(m.begin(), m.end(), '\n'), m.end());

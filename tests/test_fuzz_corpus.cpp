@@ -143,6 +143,27 @@ TEST(FuzzRegression, VtuSizesBeyondTheFileAreRefusedBeforeVtkAllocates) {
   fs::remove(path);
 }
 
+TEST(FuzzRegression, VtuOffsetsBeyondMemoryAreABadMeshNotACrash) {
+  // An offsets array whose last value is 4e17: VTK's allocation threw std::bad_alloc out of the reader.
+  const auto path = write_file("offsets.vtu", R"(<?xml version="1.0"?>
+<VTKFile type="UnstructuredGrid" version="0.1" byte_order="LittleEndian">
+  <UnstructuredGrid>
+    <Piece NumberOfPoints="4" NumberOfCells="1">
+      <Points><DataArray type="Float64" NumberOfComponents="3" format="ascii">0 0 0 1 0 0 0 1 0 0 0 1</DataArray></Points>
+      <Cells>
+        <DataArray type="Int64" Name="connectivity" format="ascii">0 1 2 3</DataArray>
+        <DataArray type="Int64" Name="offsets" format="ascii">400000002119099905</DataArray>
+        <DataArray type="UInt8" Name="types" format="ascii">10</DataArray>
+      </Cells>
+    </Piece>
+  </UnstructuredGrid>
+</VTKFile>
+)");
+  const auto message = error_of([&] { geometry::read_tet_mesh(path); });
+  EXPECT_NE(message.find("offsets.vtu"), std::string::npos) << message;
+  fs::remove(path);
+}
+
 TEST(FuzzRegression, JsonNumberBeyondDoubleIsABadConfigNotACrash) {
   // nlohmann::json throws out_of_range (not parse_error) for 89e489; it escaped as a crash.
   sph::Parameters p;
