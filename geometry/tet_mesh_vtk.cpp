@@ -93,7 +93,7 @@ void check_cell(const fs::path& path, vtkIdType cell, vtkIdType n, vtkIdType cor
       fail(path, "cell " + std::to_string(cell) + " refers to point " + std::to_string(ids[k]) + " of " + std::to_string(n_points));
 }
 
-// The sizes a .vtu announces, checked before VTK allocates them: VTK 9.1 creates a name for every
+// The formats and sizes a .vtu announces, checked before VTK reads them: VTK 9.1 creates a name for every
 // component of an array and spends minutes (and gigabytes) on NumberOfComponents="4444444444".
 // Arrays of up to 64 components are read (tensors have 9); the point and cell counts may not exceed
 // what the file could hold, 1100 values per byte (zlib's largest compression ratio is about 1032).
@@ -112,6 +112,14 @@ void check_vtu_sizes(const fs::path& path) {
                        (attribute == "NumberOfComponents" ? " (at most 64 components are read)" : ""));
     }
   };
+  // VTK 9.1 dereferences null on a DataArray whose format is none of the three it knows.
+  const std::string key = "format=\"";
+  for (auto at = text.find(key); at != std::string::npos; at = text.find(key, at + 1)) {
+    const auto start = at + key.size(), end = text.find('"', start);
+    const std::string value = end == std::string::npos ? text.substr(start, 20) : text.substr(start, std::min<std::size_t>(end - start, 20));
+    if (value != "ascii" && value != "binary" && value != "appended")
+      fail(path, "a data array has format '" + value + "' (ascii, binary or appended)");
+  }
   each("NumberOfComponents", 64);
   each("NumberOfPoints", 1100.0 * double(text.size()));
   each("NumberOfCells", 1100.0 * double(text.size()));

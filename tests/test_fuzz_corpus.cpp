@@ -164,6 +164,23 @@ TEST(FuzzRegression, VtuOffsetsBeyondMemoryAreABadMeshNotACrash) {
   fs::remove(path);
 }
 
+TEST(FuzzRegression, VtuDataArrayOfUnknownFormatIsRefusedBeforeVtk) {
+  // VTK dereferenced null reading a cell array whose format was "a>scii".
+  const auto path = write_file("format.vtu", R"(<?xml version="1.0"?>
+<VTKFile type="UnstructuredGrid" version="5.1" byte_order="LittleEndian">
+  <UnstructuredGrid>
+    <Piece NumberOfPoints="4" NumberOfCells="1">
+      <CellData><DataArray type="Int16" Name="region" format="a>scii">1</DataArray></CellData>
+      <Points><DataArray type="Float64" NumberOfComponents="3" format="ascii">0 0 0 1 0 0 0 1 0 0 0 1</DataArray></Points>
+    </Piece>
+  </UnstructuredGrid>
+</VTKFile>
+)");
+  const auto message = error_of([&] { geometry::read_tet_mesh(path); });
+  EXPECT_NE(message.find("a data array has format 'a>scii'"), std::string::npos) << message;
+  fs::remove(path);
+}
+
 TEST(FuzzRegression, JsonNumberBeyondDoubleIsABadConfigNotACrash) {
   // nlohmann::json throws out_of_range (not parse_error) for 89e489; it escaped as a crash.
   sph::Parameters p;
