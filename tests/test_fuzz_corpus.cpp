@@ -56,6 +56,12 @@ std::string error_of(const std::function<void()>& read) {
   return "";
 }
 
+// A .vtu unstructured grid around `piece` (format version 0.1).
+std::string vtu(const std::string& piece) {
+  return "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+         "  <UnstructuredGrid>\n" + piece + "  </UnstructuredGrid>\n</VTKFile>\n";
+}
+
 fs::path write_file(const std::string& name, const std::string& content) {
   const fs::path path = fs::temp_directory_path() / ("cardiosph_fuzz_regression_" + std::to_string(::getpid()) + "_" + name);
   std::ofstream(path, std::ios::binary) << content;
@@ -108,10 +114,7 @@ TEST(FuzzRegression, OpenCarpCountsBeyondTheFileAreRefused) {
 
 TEST(FuzzRegression, VtuCellOfUnknownTypeIsNamed) {
   // VTK returns no cell object for a type it does not know (92 here); it was dereferenced.
-  const auto path = write_file("unknown.vtu", R"(<?xml version="1.0"?>
-<VTKFile type="UnstructuredGrid" version="0.1" byte_order="LittleEndian">
-  <UnstructuredGrid>
-    <Piece NumberOfPoints="4" NumberOfCells="2">
+  const auto path = write_file("unknown.vtu", vtu(R"(    <Piece NumberOfPoints="4" NumberOfCells="2">
       <Points><DataArray type="Float64" NumberOfComponents="3" format="ascii">0 0 0 1 0 0 0 1 0 0 0 1</DataArray></Points>
       <Cells>
         <DataArray type="Int64" Name="connectivity" format="ascii">0 1 2 3 0 1 2</DataArray>
@@ -119,9 +122,7 @@ TEST(FuzzRegression, VtuCellOfUnknownTypeIsNamed) {
         <DataArray type="UInt8" Name="types" format="ascii">10 92</DataArray>
       </Cells>
     </Piece>
-  </UnstructuredGrid>
-</VTKFile>
-)");
+)"));
   const auto message = error_of([&] { geometry::read_tet_mesh(path); });
   EXPECT_NE(message.find("cell 1 has the unknown VTK cell type 92"), std::string::npos) << message;
   fs::remove(path);
@@ -129,15 +130,10 @@ TEST(FuzzRegression, VtuCellOfUnknownTypeIsNamed) {
 
 TEST(FuzzRegression, VtuSizesBeyondTheFileAreRefusedBeforeVtkAllocates) {
   // VTK spent minutes naming the components of NumberOfComponents="4444444444".
-  const auto path = write_file("huge.vtu", R"(<?xml version="1.0"?>
-<VTKFile type="UnstructuredGrid" version="0.1" byte_order="LittleEndian">
-  <UnstructuredGrid>
-    <Piece NumberOfPoints="4" NumberOfCells="1">
+  const auto path = write_file("huge.vtu", vtu(R"(    <Piece NumberOfPoints="4" NumberOfCells="1">
       <PointData><DataArray type="Float64" Name="fibre" NumberOfComponents="4444444444" format="ascii">1 0 0</DataArray></PointData>
     </Piece>
-  </UnstructuredGrid>
-</VTKFile>
-)");
+)"));
   const auto message = error_of([&] { geometry::read_tet_mesh(path); });
   EXPECT_NE(message.find("NumberOfComponents = 4444444444 is more than the file can hold"), std::string::npos) << message;
   fs::remove(path);
@@ -145,10 +141,7 @@ TEST(FuzzRegression, VtuSizesBeyondTheFileAreRefusedBeforeVtkAllocates) {
 
 TEST(FuzzRegression, VtuOffsetsBeyondMemoryAreABadMeshNotACrash) {
   // An offsets array whose last value is 4e17: VTK's allocation threw std::bad_alloc out of the reader.
-  const auto path = write_file("offsets.vtu", R"(<?xml version="1.0"?>
-<VTKFile type="UnstructuredGrid" version="0.1" byte_order="LittleEndian">
-  <UnstructuredGrid>
-    <Piece NumberOfPoints="4" NumberOfCells="1">
+  const auto path = write_file("offsets.vtu", vtu(R"(    <Piece NumberOfPoints="4" NumberOfCells="1">
       <Points><DataArray type="Float64" NumberOfComponents="3" format="ascii">0 0 0 1 0 0 0 1 0 0 0 1</DataArray></Points>
       <Cells>
         <DataArray type="Int64" Name="connectivity" format="ascii">0 1 2 3</DataArray>
@@ -156,9 +149,7 @@ TEST(FuzzRegression, VtuOffsetsBeyondMemoryAreABadMeshNotACrash) {
         <DataArray type="UInt8" Name="types" format="ascii">10</DataArray>
       </Cells>
     </Piece>
-  </UnstructuredGrid>
-</VTKFile>
-)");
+)"));
   const auto message = error_of([&] { geometry::read_tet_mesh(path); });
   EXPECT_NE(message.find("offsets.vtu"), std::string::npos) << message;
   fs::remove(path);
@@ -166,16 +157,11 @@ TEST(FuzzRegression, VtuOffsetsBeyondMemoryAreABadMeshNotACrash) {
 
 TEST(FuzzRegression, VtuDataArrayOfUnknownFormatIsRefusedBeforeVtk) {
   // VTK dereferenced null reading a cell array whose format was "a>scii".
-  const auto path = write_file("format.vtu", R"(<?xml version="1.0"?>
-<VTKFile type="UnstructuredGrid" version="5.1" byte_order="LittleEndian">
-  <UnstructuredGrid>
-    <Piece NumberOfPoints="4" NumberOfCells="1">
+  const auto path = write_file("format.vtu", vtu(R"(    <Piece NumberOfPoints="4" NumberOfCells="1">
       <CellData><DataArray type="Int16" Name="region" format="a>scii">1</DataArray></CellData>
       <Points><DataArray type="Float64" NumberOfComponents="3" format="ascii">0 0 0 1 0 0 0 1 0 0 0 1</DataArray></Points>
     </Piece>
-  </UnstructuredGrid>
-</VTKFile>
-)");
+)"));
   const auto message = error_of([&] { geometry::read_tet_mesh(path); });
   EXPECT_NE(message.find("a data array has format 'a>scii'"), std::string::npos) << message;
   fs::remove(path);
