@@ -97,9 +97,7 @@ void check_cell(const fs::path& path, vtkIdType cell, vtkIdType n, vtkIdType cor
 // component of an array and spends minutes (and gigabytes) on NumberOfComponents="4444444444".
 // Arrays of up to 64 components are read (tensors have 9); the point and cell counts may not exceed
 // what the file could hold, 1100 values per byte (zlib's largest compression ratio is about 1032).
-void check_vtu_sizes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+void check_vtu_sizes(const fs::path& path, const std::string& text) {
   auto each = [&](const std::string& attribute, double limit) {
     const std::string key = attribute + "=\"";
     for (auto at = text.find(key); at != std::string::npos; at = text.find(key, at + 1)) {
@@ -125,15 +123,38 @@ void check_vtu_sizes(const fs::path& path) {
   each("NumberOfCells", 1100.0 * double(text.size()));
 }
 
+// The text VTK is given: the file, with an empty <PointData/> added to every piece that has none.
+// A piece may leave PointData out, but when one of its cell arrays then fails to read (too short),
+// VTK 9.1 names the missing PointData element in its error message and dereferences null. With the
+// empty element the same file gives VTK's own error ("the data array may be too short"). Raw appended
+// data is not touched: the search stops at <AppendedData, and its offsets count from its own start.
+std::string text_for_vtk(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  check_vtu_sizes(path, text);
+  const std::size_t appended = std::min(text.find("<AppendedData"), text.size());
+  for (auto at = text.find("<Piece"); at < appended; at = text.find("<Piece", at + 1)) {
+    const auto open_end = text.find('>', at);
+    if (open_end >= appended) break;
+    if (text[open_end - 1] == '/') continue;  // <Piece .../> holds nothing
+    const auto close = std::min(text.find("</Piece", open_end), appended);
+    const auto point_data = text.find("<PointData", open_end);
+    if (point_data < close) continue;
+    text.insert(open_end + 1, "<PointData/>");
+  }
+  return text;
+}
+
 }  // namespace
 
 TetMesh read_vtu_tets(const fs::path& path, double scale) {
-  check_vtu_sizes(path);
+  const std::string text = text_for_vtk(path);
   vtkNew<vtkXMLUnstructuredGridReader> reader;
   vtkNew<ErrorCollector> errors;
   reader->AddObserver(vtkCommand::ErrorEvent, errors);
   if (!reader->CanReadFile(path.string().c_str())) fail(path, "not a VTK XML unstructured grid");
-  reader->SetFileName(path.string().c_str());
+  reader->ReadFromInputStringOn();
+  reader->SetInputString(text);
   try {
     reader->Update();
   } catch (const std::bad_alloc&) {  // e.g. an offsets array announcing 4e17 connectivity entries

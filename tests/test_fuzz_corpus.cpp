@@ -167,6 +167,34 @@ TEST(FuzzRegression, VtuDataArrayOfUnknownFormatIsRefusedBeforeVtk) {
   fs::remove(path);
 }
 
+TEST(FuzzRegression, VtuShortCellArrayWithoutPointDataIsABadMeshNotACrash) {
+  // A piece without PointData whose cell array is too short: VTK named the missing PointData element
+  // in its error message and dereferenced null. The same piece with a full array must still read.
+  auto piece = [](const std::string& regions) {
+    return vtu(R"(    <Piece NumberOfPoints="5" NumberOfCells="2">
+      <CellData><DataArray type="Int16" Name="region" format="ascii">)" + regions + R"(</DataArray></CellData>
+      <Points><DataArray type="Float64" NumberOfComponents="3" format="ascii">0 0 0 1 0 0 0 1 0 0 0 1 1 1 1</DataArray></Points>
+      <Cells>
+        <DataArray type="Int64" Name="connectivity" format="ascii">0 1 2 3 1 2 3 4</DataArray>
+        <DataArray type="Int64" Name="offsets" format="ascii">4 8</DataArray>
+        <DataArray type="UInt8" Name="types" format="ascii">10 10</DataArray>
+      </Cells>
+    </Piece>
+)");
+  };
+  const auto short_path = write_file("short_cells.vtu", piece("1"));
+  const auto message = error_of([&] { geometry::read_tet_mesh(short_path); });
+  EXPECT_NE(message.find("short_cells.vtu"), std::string::npos) << message;
+  EXPECT_NE(message.find("VTK cannot read it"), std::string::npos) << message;
+  fs::remove(short_path);
+
+  const auto full_path = write_file("full_cells.vtu", piece("7 8"));
+  const auto mesh = geometry::read_tet_mesh(full_path);
+  EXPECT_EQ(mesh.tets.size(), 2u);
+  EXPECT_EQ(mesh.tet_region, (std::vector<int>{7, 8}));
+  fs::remove(full_path);
+}
+
 TEST(FuzzRegression, JsonNumberBeyondDoubleIsABadConfigNotACrash) {
   // nlohmann::json throws out_of_range (not parse_error) for 89e489; it escaped as a crash.
   sph::Parameters p;
