@@ -3,6 +3,8 @@
 // writes, byte for byte, every file of the uninterrupted run and the same physics in report.json;
 // periodic checkpoints do not change a run; a checkpoint of another scene, of another format
 // version, truncated or damaged is refused with exit code 2 and the interrupted run left untouched.
+// Every other scene that checkpoints is interrupted and resumed the same way (SceneCheckpoint), and
+// no scene may claim checkpoints without such a test.
 #include <gtest/gtest.h>
 #include <fcntl.h>
 #include <signal.h>
@@ -13,9 +15,12 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <algorithm>
 #include <map>
+#include <set>
 #include <thread>
 
+#include "apps/scenes/scene.hpp"
 #include "cli_for_test.hpp"
 #include "libsph/io/checkpoint.hpp"
 #include "run_scene_for_test.hpp"
@@ -182,7 +187,7 @@ TEST_F(HeartCheckpoint, ForeignTruncatedOrDamagedCheckpointsAreRefused) {
   foreign.scene = "land-lv";
   expect_refused(sph::serialise_checkpoint(foreign), "is of scene 'land-lv', not 'heart'");
   // A scene that cannot checkpoint, and parameters given with --resume.
-  expect_refused(good, "cannot be checkpointed or resumed", "dambreak");
+  expect_refused(good, "cannot be checkpointed or resumed", "elastic-gate");
   std::ofstream(file, std::ios::binary | std::ios::trunc) << good;
   const auto r = run({"heart", "--resume", out.string(), "--set", "dp=2"});
   EXPECT_EQ(r.code, 2);
@@ -191,6 +196,76 @@ TEST_F(HeartCheckpoint, ForeignTruncatedOrDamagedCheckpointsAreRefused) {
   auto short_of_a_record = sph::parse_checkpoint(good, "good");
   short_of_a_record.records.erase(short_of_a_record.records.begin());
   expect_refused(sph::serialise_checkpoint(short_of_a_record), "does not fit this run");
+}
+
+
+// The other scenes that checkpoint: each run briefly, interrupted part-way (after at least one
+// output state and, with sort_interval, before a re-sort that the resumed run must place at the
+// same step), resumed, and compared with the uninterrupted run file by file.
+struct ResumeCase {
+  std::string scene;
+  std::vector<std::string> assignments;
+  std::string interrupt_at;
+};
+
+void PrintTo(const ResumeCase& c, std::ostream* os) { *os << c.scene; }
+
+class SceneCheckpoint : public ::testing::TestWithParam<ResumeCase> {};
+
+TEST_P(SceneCheckpoint, InterruptedAndResumedRunIsTheUninterruptedOne) {
+  const auto& c = GetParam();
+  const test::TemporaryFolder folder(c.scene + "_checkpoint");
+  auto arguments = [&](const fs::path& output) {
+    std::vector<std::string> args{c.scene, "--quiet", "--threads", "2", "--output", output.string()};
+    for (const auto& a : c.assignments) args.insert(args.end(), {"--set", a});
+    return args;
+  };
+  const auto full = folder.path() / "full", part = folder.path() / "part";
+  const auto r_full = run(arguments(full));
+  ASSERT_EQ(r_full.code, 0) << r_full.err;
+  auto interrupted = arguments(part);
+  interrupted.insert(interrupted.end(), {"--interrupt-at", c.interrupt_at});
+  const auto r_part = run(interrupted);
+  ASSERT_EQ(r_part.code, 3) << "not interrupted: " << r_part.err;
+  const auto checkpoint = sph::read_checkpoint(part / sph::checkpoint_file_name);
+  EXPECT_LT(checkpoint.time, report_of(full)["simulated_time"].get<double>());
+  std::cout << "  " << c.scene << ": checkpoint at t = " << checkpoint.time << ", " << checkpoint.records.size() << " records, "
+            << fs::file_size(part / sph::checkpoint_file_name) << " bytes\n";
+  const auto r_resumed = run({c.scene, "--resume", part.string(), "--quiet", "--threads", "2"});
+  ASSERT_EQ(r_resumed.code, 0) << r_resumed.err;
+  expect_same_run(full, part);
+}
+
+const std::vector<ResumeCase>& resume_cases() {
+  static const std::vector<ResumeCase> cases{
+      ResumeCase{"dambreak", {"resolution=20", "end_time=1", "output_interval=0.25"}, "0.3"},
+      ResumeCase{"dambreak-3d", {"resolution=8", "end_time=0.5", "output_interval=0.1", "sort_interval=10"}, "0.2"},
+      ResumeCase{"hydrostatic-tank", {"resolution=10", "end_time=1", "output_interval=0.25", "sort_interval=10"}, "0.4"},
+      ResumeCase{"lid-driven-cavity", {"resolution=20", "end_time=0.5", "output_interval=0.1", "sort_interval=10"}, "0.2"},
+      ResumeCase{"poiseuille", {"resolution=10", "end_time=1", "output_interval=0.25", "sort_interval=10"}, "0.4"},
+      ResumeCase{"taylor-green", {"resolution=20", "end_time=0.1", "output_interval=0.02", "sort_interval=5"}, "0.05"}};
+  return cases;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Scenes, SceneCheckpoint, ::testing::ValuesIn(resume_cases()),
+    [](const ::testing::TestParamInfo<ResumeCase>& param) {
+      std::string name = param.param.scene;
+      std::replace(name.begin(), name.end(), '-', '_');
+      return name;
+    });
+
+// A scene that says it checkpoints must have its resume test (above, or HeartCheckpoint).
+TEST(SceneCheckpointCoverage, EverySceneThatCheckpointsIsResumedInATest) {
+  std::set<std::string> tested{"heart"};
+  for (const auto& c : resume_cases()) tested.insert(c.scene);
+  std::size_t checkpointing = 0;
+  for (const auto& entry : cardiosph::scene_registry()) {
+    if (!entry.make()->checkpoints()) continue;
+    ++checkpointing;
+    EXPECT_TRUE(tested.count(entry.name)) << entry.name << " checkpoints but no test resumes it";
+  }
+  std::cout << "  " << checkpointing << " of " << cardiosph::scene_registry().size() << " scenes checkpoint\n";
 }
 
 }  // namespace

@@ -155,8 +155,8 @@ TEST(Fluid, TaitEquationOfStateIsConsistent) {
   const Real rho = 1012;
   double integral = 0;
   const int n = 2000;
-  for (int k = 0; k < n; ++k) {
-    const double s = 1000 + (k + 0.5) * (rho - 1000) / n;
+  for (int j = 0; j < n; ++j) {
+    const double s = 1000 + (j + 0.5) * (rho - 1000) / n;
     integral += eos.pressure(Real(s)) / (s * s) * (rho - 1000) / n;
   }
   EXPECT_NEAR(eos.internal_energy(rho), integral, 1e-6 * integral);

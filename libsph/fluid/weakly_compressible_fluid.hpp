@@ -74,6 +74,7 @@
 #include "libsph/core/neighbour_relation.hpp"
 #include "libsph/core/particles.hpp"
 #include "libsph/core/section_timers.hpp"
+#include "libsph/core/state_archive.hpp"
 #include "libsph/core/time_stepper.hpp"
 #include "libsph/fluid/equation_of_state.hpp"
 #include "libsph/fluid/fluid_wall.hpp"
@@ -181,6 +182,14 @@ class WeaklyCompressibleFluid {
   std::size_t advection_steps() const { return advection_steps_; }
   std::size_t acoustic_steps() const { return acoustic_steps_; }
   std::size_t neighbour_rebuilds() const { return rebuilds_; }
+  /// Saves or loads what changes besides the particle fields (checkpoints, taken between advection
+  /// steps): the step and rebuild counts (the rebuild count decides when the particles are re-sorted).
+  /// The relations and the planned acoustic step are rebuilt at the start of every advection step.
+  void checkpoint(StateArchive& archive) {
+    archive.io("advection_steps", advection_steps_);
+    archive.io("acoustic_steps", acoustic_steps_);
+    archive.io("neighbour_rebuilds", rebuilds_);
+  }
   /// Reference number density sigma0 of a full lattice.
   Real reference_number_density() const { return sigma0_; }
 

@@ -87,6 +87,7 @@ class DamBreakScene final : public Scene {
                                 std::to_string(p_.tank_width) + " x " + std::to_string(p_.tank_height) + ")");
   }
 
+  bool checkpoints() const override { return true; }
   void run(RunContext& ctx) override {
     using VecD = sph::Vec<Dim>;
     const Real dp = static_cast<Real>(this->dp());
@@ -174,6 +175,16 @@ class DamBreakScene final : public Scene {
         front_done = true;
         arrival_time = s.time;
       }
+    };
+    plan.state = [&](sph::StateArchive& archive) {
+      archive.io("first_rise", first_rise);
+      archive.io("peak_pressure", peak_pressure);
+      archive.io("next_snapshot", next_snapshot);
+      archive.io("snapshots", snapshots);
+      archive.io("front_done", front_done);
+      archive.io("front_t", front_t);
+      archive.io("front_x", front_x);
+      archive.io("arrival_time", arrival_time);
     };
     run_fluid<Dim>(fluid, {&tank}, plan, ctx);
 

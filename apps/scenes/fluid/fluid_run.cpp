@@ -70,7 +70,7 @@ FluidRunSummary run_fluid(sph::WeaklyCompressibleFluid<Dim>& fluid, std::vector<
                           const FluidRunPlan& plan, RunContext& ctx) {
   auto& body = fluid.particles();
   sph::TimeStepper stepper(0, static_cast<sph::Real>(plan.end_time));
-  sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, plan.scene, ctx.quiet});
+  sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, plan.scene, ctx.quiet, ctx.checkpoint});
   sph::FluidStepHooks hooks;
   if (plan.extend) plan.extend(run, hooks);
   stepper.add_stage(fluid.advection_stage(run.timers(), std::move(hooks)));
@@ -96,6 +96,15 @@ FluidRunSummary run_fluid(sph::WeaklyCompressibleFluid<Dim>& fluid, std::vector<
                         return std::vector<double>{e.kinetic, e.potential, e.internal, e.total(), speed};
                       });
   if (!plan.observer_columns.empty()) run.add_time_series("observers.csv", plan.observer_columns, sample_interval, plan.observers);
+  run.add_state("fluid/" + body.name(), [&](sph::StateArchive& a) { fluid.checkpoint(a); });
+  run.add_state("fluid_run", [&](sph::StateArchive& a) {
+    a.io("first", first);
+    a.io("largest_energy", largest_energy);
+    a.io("initial_energy", summary.initial_energy);
+    a.io("max_energy_rise", summary.max_energy_rise);
+    a.io("max_mach", summary.max_mach);
+  });
+  if (plan.state) run.add_state("scene", plan.state);
   ctx.report.results["sound_speed"] = c0;
   ctx.report.results["smoothing_length"] = fluid.settings().smoothing_length;
   ctx.report.results["particle_spacing"] = fluid.settings().particle_spacing;

@@ -70,6 +70,10 @@ struct FluidRunPlan {
   /// Adds bodies, couplings and open boundaries to the run (may be empty): their outputs on the
   /// harness, their work on the fluid's step through the hooks.
   std::function<void(sph::RunHarness&, sph::FluidStepHooks&)> extend;
+  /// The scene's own changing state outside the bodies (its observers' extremes, recorded curves), for
+  /// checkpoints (sph::StateArchive); may be empty. Checkpoints are taken only in scenes whose
+  /// Scene::checkpoints() is true: those list here all they keep.
+  std::function<void(sph::StateArchive&)> state;
 };
 
 struct FluidRunSummary {

@@ -49,6 +49,7 @@ class HydrostaticTankScene final : public Scene {
                                 " exceeds the tank height " + std::to_string(p_.tank_height));
   }
 
+  bool checkpoints() const override { return true; }
   void run(RunContext& ctx) override {
     const Real dp = static_cast<Real>(this->dp());
     const Real W = static_cast<Real>(p_.tank_width), H = static_cast<Real>(p_.water_height);
@@ -114,6 +115,12 @@ class HydrostaticTankScene final : public Scene {
         max_speed_late = std::max(max_speed_late, speed);
       }
       return std::vector<double>{pressure, speed, surface};
+    };
+    plan.state = [&](sph::StateArchive& a) {
+      a.io("pressure_sum", pressure_sum);
+      a.io("max_speed_late", max_speed_late);
+      a.io("max_drift", max_drift);
+      a.io("late_samples", late_samples);
     };
     run_fluid<2>(fluid, {&tank}, plan, ctx);
 

@@ -57,6 +57,7 @@ class LidDrivenCavityScene final : public Scene {
 
   void check() const override { check_mach_number(1.0, p_.sound_speed); }
 
+  bool checkpoints() const override { return true; }  // nothing kept outside the bodies
   void run(RunContext& ctx) override {
     const GhiaTable& table = p_.preset == "re1000" ? ghia_re1000 : ghia_re100;
     const Real dp = Real(1) / static_cast<Real>(p_.resolution);

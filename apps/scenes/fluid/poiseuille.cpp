@@ -45,6 +45,7 @@ class PoiseuilleScene final : public Scene {
                                 " must be a whole number of particle spacings (" + std::to_string(dp()) + ")");
   }
 
+  bool checkpoints() const override { return true; }
   void run(RunContext& ctx) override {
     const Real dp = static_cast<Real>(this->dp());
     const Real L = static_cast<Real>(p_.length), H = static_cast<Real>(p_.height);
@@ -81,6 +82,7 @@ class PoiseuilleScene final : public Scene {
       if (std::isnan(steady_time) && std::abs(mean - steady_mean) < 0.01 * steady_mean) steady_time = s.time;
       return std::vector<double>{mean, steady_mean};
     };
+    plan.state = [&](sph::StateArchive& a) { a.io("steady_time", steady_time); };
     run_fluid<2>(fluid, {&walls}, plan, ctx);
 
     const auto v = water.field(fluid.velocity_field());

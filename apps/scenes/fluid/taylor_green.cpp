@@ -33,6 +33,7 @@ class TaylorGreenScene final : public Scene {
 
   void check() const override { check_mach_number(1.0, p_.sound_speed); }
 
+  bool checkpoints() const override { return true; }
   void run(RunContext& ctx) override {
     const Real dp = Real(1) / static_cast<Real>(p_.resolution);
     auto water = geometry::lattice_box<2>("fluid", Vec2::Zero(), Vec2(1, 1), dp);
@@ -68,6 +69,11 @@ class TaylorGreenScene final : public Scene {
       times.push_back(s.time);
       log_energy.push_back(std::log(e));
       return std::vector<double>{e, initial * std::exp(-rate * s.time)};
+    };
+    plan.state = [&](sph::StateArchive& a) {
+      a.io("initial", initial);
+      a.io("times", times);
+      a.io("log_energy", log_energy);
     };
     run_fluid<2>(fluid, {}, plan, ctx);
 
