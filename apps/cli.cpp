@@ -43,7 +43,7 @@ int run_cli(int argc, const char* const* argv) {
     for (const auto& key : scene.shortcuts)
       command->add_option("--" + key, shortcut_values[scene.name + "/" + key], "same as --set " + key + "=...");
     command->add_option("--checkpoint-interval", options.checkpoint_interval,
-                        "write <output>/checkpoint.bin every this much simulated time (scenes that can checkpoint: heart)");
+                        "write <output>/checkpoint.bin every this much simulated time (scenes that can checkpoint: see docs/reliability.md)");
     command->add_option("--interrupt-at", options.interrupt_at,
                         "stop with a checkpoint at the first step at or after this simulated time, as Ctrl-C or SIGTERM do");
     command->add_option("--resume", options.resume,

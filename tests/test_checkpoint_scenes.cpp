@@ -243,7 +243,15 @@ const std::vector<ResumeCase>& resume_cases() {
       ResumeCase{"hydrostatic-tank", {"resolution=10", "end_time=1", "output_interval=0.25", "sort_interval=10"}, "0.4"},
       ResumeCase{"lid-driven-cavity", {"resolution=20", "end_time=0.5", "output_interval=0.1", "sort_interval=10"}, "0.2"},
       ResumeCase{"poiseuille", {"resolution=10", "end_time=1", "output_interval=0.25", "sort_interval=10"}, "0.4"},
-      ResumeCase{"taylor-green", {"resolution=20", "end_time=0.1", "output_interval=0.02", "sort_interval=5"}, "0.05"}};
+      ResumeCase{"taylor-green", {"resolution=20", "end_time=0.1", "output_interval=0.02", "sort_interval=5"}, "0.05"},
+      ResumeCase{"cantilever", {"resolution=2", "end_time=0.05", "output_interval=0.01"}, "0.02"},
+      ResumeCase{"twisting-column", {"resolution=3", "end_time=0.05", "output_interval=0.01"}, "0.02"},
+      ResumeCase{"oscillating-beam", {"resolution=4", "end_time=0.6", "output_interval=0.1"}, "0.25"},
+      // Quasi-static: interrupted between residual checks, before it converges (at about 67 ms).
+      ResumeCase{"land-beam", {"resolution=3", "residual_check_interval=20", "residual_tolerance=0.1", "output_interval=20"}, "30"},
+      ResumeCase{"myocardium-cube", {"resolution=4", "end_time=1", "output_interval=0.25"}, "0.4"},
+      // The geometry stage without its cache: each of the three runs makes the LV anew.
+      ResumeCase{"land-lv", {"dp=2", "cache=none", "end_time=20", "ramp_time=10", "output_interval=5"}, "8"}};
   return cases;
 }
 

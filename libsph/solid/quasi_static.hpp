@@ -52,6 +52,8 @@ class QuasiStaticRelaxation {
   /// Checks the equilibrium at the loads of `time`.
   const Status& check(Real time);
   const Status& status() const { return status_; }
+  /// Saves or loads the status (checkpoints): the steps taken decide when the next check is due.
+  void checkpoint(StateArchive& archive) { archive.io("status", status_); }
   /// The message of a run that ended at `time` without converging.
   std::string not_converged(Real time) const;
 

@@ -122,6 +122,7 @@ class LandLvScene final : public Scene {
     if (p_.ramp_time > p_.end_time) throw sph::ParameterError("parameter 'ramp_time' must not exceed 'end_time'");
   }
 
+  bool checkpoints() const override { return true; }
   void run(RunContext& ctx) override {
     auto log = [&](const std::string& line) {
       if (!ctx.quiet) std::cout << line << '\n' << std::flush;
@@ -186,6 +187,7 @@ class LandLvScene final : public Scene {
       if (std::isnan(endo_z_at_nine_tenths) && s.time >= 0.9 * p_.end_time) endo_z_at_nine_tenths = endo;
       return std::vector<double>{endo, epi, mid, volume};
     };
+    plan.state = [&](sph::StateArchive& a) { a.io("endo_z_at_nine_tenths", endo_z_at_nine_tenths); };
     set_tension(0);
     run_solid<3>(solid, relation, plan, ctx);
 

@@ -80,6 +80,7 @@ class MyocardiumCubeScene final : public Scene {
     if (p_.ramp_time > p_.end_time) throw sph::ParameterError("parameter 'ramp_time' must not exceed 'end_time'");
   }
 
+  bool checkpoints() const override { return true; }  // nothing kept outside the body
   void run(RunContext& ctx) override {
     const Real dp = Real(1) / Real(p_.resolution);
     const Real h = Real(p_.numerics.discretisation.smoothing_length_ratio) * dp;

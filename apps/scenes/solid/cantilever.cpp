@@ -43,6 +43,7 @@ class CantileverScene final : public Scene {
     check_whole_spacings(p_.holder_length, dp, "holder_length");
   }
 
+  bool checkpoints() const override { return true; }
   void run(RunContext& ctx) override {
     const Real T = static_cast<Real>(p_.thickness), L = static_cast<Real>(p_.length);
     const Real dp = T / static_cast<Real>(p_.resolution);
@@ -83,6 +84,7 @@ class CantileverScene final : public Scene {
       max_deflection = std::max(max_deflection, double((tip - tip_point).tail<2>().norm()));
       return std::vector<double>{tip[0], tip[1], tip[2]};
     };
+    plan.state = [&](sph::StateArchive& a) { a.io("max_deflection", max_deflection); };
     const auto summary = run_solid<3>(solid, relation, plan, ctx);
     const Vec3 tip = tip_position();
     auto& report = ctx.report;
@@ -116,6 +118,7 @@ class TwistingColumnScene final : public Scene {
     check_whole_spacings(p_.height, p_.width / static_cast<double>(p_.resolution), "height");
   }
 
+  bool checkpoints() const override { return true; }
   void run(RunContext& ctx) override {
     const Real W = static_cast<Real>(p_.width), H = static_cast<Real>(p_.height);
     const Real dp = W / static_cast<Real>(p_.resolution);
@@ -168,6 +171,11 @@ class TwistingColumnScene final : public Scene {
       const double measure = solid.hourglass_measure();
       max_measure = std::max(max_measure, measure);
       return std::vector<double>{twist * 180 / M_PI, measure};
+    };
+    plan.state = [&](sph::StateArchive& a) {
+      a.io("twist", twist);
+      a.io("max_twist", max_twist);
+      a.io("max_measure", max_measure);
     };
     const auto summary = run_solid<3>(solid, relation, plan, ctx);
     auto& report = ctx.report;

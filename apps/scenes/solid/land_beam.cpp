@@ -52,6 +52,7 @@ class LandBeamScene final : public Scene {
     if (p_.ramp_time > p_.end_time) throw sph::ParameterError("parameter 'ramp_time' must not exceed 'end_time'");
   }
 
+  bool checkpoints() const override { return true; }
   void run(RunContext& ctx) override {
     const Real dp = Real(1) / static_cast<Real>(p_.resolution);
     const Real h = static_cast<Real>(p_.numerics.discretisation.smoothing_length_ratio) * dp;
@@ -101,6 +102,7 @@ class LandBeamScene final : public Scene {
       return std::vector<double>{x[0], x[1], x[2]};
     };
     plan.converge_after = p_.ramp_time;
+    plan.state = [&](sph::StateArchive& a) { a.io("z_at_nine_tenths", z_at_nine_tenths); };
     std::optional<sph::QuasiStaticRelaxation<3>> relaxation;
     if (p_.solver == "quasi_static") relaxation.emplace(solid, p_.relaxation);
     const SolidRunSummary summary = run_solid<3>(solid, relation, plan, ctx, relaxation ? &*relaxation : nullptr);

@@ -42,6 +42,7 @@ class OscillatingBeamScene final : public Scene {
                      (12 * p_.density * (1 - p_.poisson_ratio * p_.poisson_ratio) * std::pow(p_.length, 4)));
   }
 
+  bool checkpoints() const override { return true; }
   void run(RunContext& ctx) override {
     const Real dp = static_cast<Real>(p_.thickness / static_cast<double>(p_.resolution));
     const Real h = static_cast<Real>(p_.numerics.discretisation.smoothing_length_ratio) * dp;
@@ -96,6 +97,12 @@ class OscillatingBeamScene final : public Scene {
         crossings.push_back(previous_time + (s.time - previous_time) * previous_deflection / (previous_deflection - d));
       previous_time = s.time;
       previous_deflection = d;
+    };
+    plan.state = [&](sph::StateArchive& a) {
+      a.io("crossings", crossings);
+      a.io("previous_time", previous_time);
+      a.io("previous_deflection", previous_deflection);
+      a.io("amplitude", amplitude);
     };
     const auto summary = run_solid<2>(solid, relation, plan, ctx);
 

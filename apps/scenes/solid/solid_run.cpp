@@ -60,7 +60,7 @@ SolidRunSummary run_solid(sph::ElasticSolid<Dim>& solid, const sph::NeighbourLis
         stepper.stop_after_this_step();
     });
 
-  sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, plan.scene, ctx.quiet});
+  sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, plan.scene, ctx.quiet, ctx.checkpoint});
   run.add_body(body, static_cast<sph::Real>(plan.output_interval), [&](double) { solid.update_output_fields(); });
   run.add_relation(body.name(), relation);
 
@@ -79,6 +79,17 @@ SolidRunSummary run_solid(sph::ElasticSolid<Dim>& solid, const sph::NeighbourLis
                                                    double(e.max_jacobian)};
                       });
   if (!plan.observer_columns.empty()) run.add_time_series("observers.csv", plan.observer_columns, sample_interval, plan.observers);
+  run.add_state("solid/" + body.name(), [&](sph::StateArchive& a) {
+    solid.checkpoint(a);
+    if (relaxation) relaxation->checkpoint(a);
+  });
+  run.add_state("solid_run", [&](sph::StateArchive& a) {
+    a.io("min_jacobian", summary.min_jacobian);
+    a.io("max_jacobian", summary.max_jacobian);
+    a.io("max_energy", max_energy);
+    a.io("energy_samples", energy_samples);
+  });
+  if (plan.state) run.add_state("scene", plan.state);
 
   ctx.report.results["initial_time_step"] = solid.stable_time_step();
   summary.steps = run.run();

@@ -39,6 +39,10 @@ struct SolidRunPlan {
   std::function<void(const sph::StepInfo&)> every_step;  ///< after every step (may be empty)
   std::function<void(sph::Real time, sph::Real dt)> before_step;  ///< before each step (may be empty)
   double converge_after = 0;  ///< with a quasi-static relaxation: residual checks from this time on (the loads' ramp)
+  /// The scene's own changing state outside the body (its observers' extremes, recorded curves), for
+  /// checkpoints (sph::StateArchive); may be empty. Checkpoints are taken only in scenes whose
+  /// Scene::checkpoints() is true: those list here all they keep.
+  std::function<void(sph::StateArchive&)> state;
 };
 
 struct SolidRunSummary {
