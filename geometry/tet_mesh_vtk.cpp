@@ -93,6 +93,16 @@ void check_cell(const fs::path& path, vtkIdType cell, vtkIdType n, vtkIdType cor
       fail(path, "cell " + std::to_string(cell) + " refers to point " + std::to_string(ids[k]) + " of " + std::to_string(n_points));
 }
 
+// A cell of another type than tetrahedron or triangle, as VTK makes it (null for a type VTK does not
+// know), once its points are checked: VTK reads the coordinates of every point the cell names.
+vtkCell* other_cell(const fs::path& path, vtkUnstructuredGrid& grid, vtkIdType c) {
+  vtkIdType n = 0;
+  const vtkIdType* ids = nullptr;
+  grid.GetCellPoints(c, n, ids);
+  if (n > 0) check_cell(path, c, n, n, ids, grid.GetNumberOfPoints());
+  return grid.GetCell(c);
+}
+
 // The formats and sizes a .vtu announces, checked before VTK reads them: VTK 9.1 creates a name for every
 // component of an array and spends minutes (and gigabytes) on NumberOfComponents="4444444444".
 // Arrays of up to 64 components are read (tensors have 9); the point and cell counts may not exceed
@@ -199,7 +209,7 @@ TetMesh read_vtu_tets(const fs::path& path, double scale) {
       check_cell(path, c, n, 3, ids, n_points);
       mesh.tagged_faces.push_back({std::uint32_t(ids[0]), std::uint32_t(ids[1]), std::uint32_t(ids[2])});
       triangle_cells.push_back(c);
-    } else if (vtkCell* cell = grid->GetCell(c); cell == nullptr) {
+    } else if (vtkCell* cell = other_cell(path, *grid, c); cell == nullptr) {
       fail(path, "cell " + std::to_string(c) + " has the unknown VTK cell type " + std::to_string(type));
     } else if (cell->GetCellDimension() == 3) {
       fail(path, "cell " + std::to_string(c) + " is a " + vtkCellTypes::GetClassNameFromTypeId(type) +

@@ -195,6 +195,23 @@ TEST(FuzzRegression, VtuShortCellArrayWithoutPointDataIsABadMeshNotACrash) {
   fs::remove(full_path);
 }
 
+TEST(FuzzRegression, VtuCellOfAnotherTypeBeyondThePointsIsNamedBeforeVtkBuildsIt) {
+  // A cell of type 79 (neither tetrahedron nor triangle) naming point 6666666666661 of 4: VTK read
+  // the coordinates of that point while building the cell (SEGV). Its points are now checked first.
+  const auto path = write_file("other_cell.vtu", vtu(R"(    <Piece NumberOfPoints="4" NumberOfCells="2">
+      <Points><DataArray type="Float64" NumberOfComponents="3" format="ascii">0 0 0 1 0 0 0 1 0 0 0 1</DataArray></Points>
+      <Cells>
+        <DataArray type="Int64" Name="connectivity" format="ascii">0 1 2 3 0 6666666666661 2 3</DataArray>
+        <DataArray type="Int64" Name="offsets" format="ascii">4 8</DataArray>
+        <DataArray type="UInt8" Name="types" format="ascii">10 79</DataArray>
+      </Cells>
+    </Piece>
+)"));
+  const auto message = error_of([&] { geometry::read_tet_mesh(path); });
+  EXPECT_NE(message.find("cell 1 refers to point 6666666666661 of 4"), std::string::npos) << message;
+  fs::remove(path);
+}
+
 TEST(FuzzRegression, JsonNumberBeyondDoubleIsABadConfigNotACrash) {
   // nlohmann::json throws out_of_range (not parse_error) for 89e489; it escaped as a crash.
   sph::Parameters p;
