@@ -251,7 +251,16 @@ const std::vector<ResumeCase>& resume_cases() {
       ResumeCase{"land-beam", {"resolution=3", "residual_check_interval=20", "residual_tolerance=0.1", "output_interval=20"}, "30"},
       ResumeCase{"myocardium-cube", {"resolution=4", "end_time=1", "output_interval=0.25"}, "0.4"},
       // The geometry stage without its cache: each of the three runs makes the LV anew.
-      ResumeCase{"land-lv", {"dp=2", "cache=none", "end_time=20", "ramp_time=10", "output_interval=5"}, "8"}};
+      ResumeCase{"land-lv", {"dp=2", "cache=none", "end_time=20", "ramp_time=10", "output_interval=5"}, "8"},
+      ResumeCase{"depolarization", {"resolution=20", "end_time=4", "output_interval=1"}, "1.5"},
+      // Between the two beats, with the action potential maps, the beat records and a pseudo-ECG.
+      ResumeCase{"cable",
+                 {"pacing=train", "pacing_count=2", "pacing_period=400", "end_time=800", "output_interval=200", "ecg=electrodes",
+                  "ecg_electrodes=A:12,0.25,0.25;B:-2,0.25,0.25"},
+                 "500"},
+      ResumeCase{"niederer-slab", {"resolution=3", "output_interval=10"}, "30"},
+      // During the automatic S2, placed at 398 ms: the resumed run must place it again.
+      ResumeCase{"spiral-wave", {"resolution=40", "size=20", "end_time=800", "output_interval=100"}, "399"}};
   return cases;
 }
 

@@ -49,6 +49,7 @@ class CableScene final : public Scene {
     if (p_.ecg.mode == "electrodes") (void)parse_electrodes(p_.ecg.electrodes);
     (void)cell_heterogeneity(p_.cells);
   }
+  bool checkpoints() const override { return true; }
   void run(RunContext& ctx) override {
     const Real dx = Real(p_.width / double(p_.resolution));
     auto body = geometry::lattice_box<3>("cable", Vec3(0, 0, 0), Vec3(Real(p_.length), Real(p_.width), Real(p_.width)), dx);
@@ -107,6 +108,7 @@ class CableScene final : public Scene {
                                  {}};
       ecg.emplace(e, parse_electrodes(e.electrodes), false, relation, body.position, body.volume, dx, source, run);
     };
+    plan.state = [&](sph::StateArchive& a) { beats.checkpoint(a); };  // the ECG saves its own
     run_monodomain<3>(monodomain, body, relation, probes, plan, ctx);
 
     auto& r = ctx.report;

@@ -40,6 +40,7 @@ class DepolarizationScene final : public Scene {
     p.add("epsilon0", p_.epsilon0, "-", "Aliev-Panfilov epsilon0", sph::Range::positive());
     declare_ep_numerics(p, p_.numerics, "-");
   }
+  bool checkpoints() const override { return true; }  // nothing kept outside the body and its traces
   void run(RunContext& ctx) override {
     const Real dp = Real(1) / static_cast<Real>(p_.resolution);
     auto body = geometry::lattice_box<2>("tissue", Vec2(0, 0), Vec2(1, 1), dp);

@@ -50,7 +50,7 @@ EpTraces run_monodomain(cardio::Monodomain<Dim>& monodomain, sph::ParticleSet<Di
     if (plan.every_step) plan.every_step(s);
     if (plan.stop_when_all_activated && monodomain.all_activated()) stepper.stop_after_this_step();
   });
-  sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, plan.scene, ctx.quiet});
+  sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, plan.scene, ctx.quiet, ctx.checkpoint});
   run.add_body(body, static_cast<sph::Real>(plan.output_interval), [&](double) { monodomain.update_conduction_velocity(); });
   run.add_relation(body.name(), relation);
   std::vector<std::string> columns;
@@ -67,6 +67,12 @@ EpTraces run_monodomain(cardio::Monodomain<Dim>& monodomain, sph::ParticleSet<Di
     return row;
   });
 
+  run.add_state("monodomain", [&](sph::StateArchive& a) { monodomain.checkpoint(a); });
+  run.add_state("traces", [&](sph::StateArchive& a) {
+    a.io("time", traces.time);
+    for (std::size_t p = 0; p < traces.potential.size(); ++p) a.io("potential" + std::to_string(p), traces.potential[p]);
+  });
+  if (plan.state) run.add_state("scene", plan.state);
   if (plan.before_run) plan.before_run(run);
   auto& report = ctx.report;
   report.results["time_step"] = monodomain.time_step();

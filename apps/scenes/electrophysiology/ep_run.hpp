@@ -56,6 +56,10 @@ struct EpRunPlan {
   std::vector<std::string> probe_names;  ///< one per probe, for the CSV header
   std::function<void(const sph::StepInfo&)> every_step;  ///< after every step (may be empty)
   std::function<void(sph::RunHarness&)> before_run;     ///< adds further outputs (may be empty)
+  /// The scene's own changing state outside the body (beat records, a stimulus placed during the
+  /// run), for checkpoints (sph::StateArchive); may be empty. Checkpoints are taken only in scenes
+  /// whose Scene::checkpoints() is true: those list here all they keep.
+  std::function<void(sph::StateArchive&)> state = {};
 };
 
 /// Sampled potential at the probes.

@@ -54,6 +54,7 @@ class NiedererSlabScene final : public Scene {
     if (p_.pacing.protocol != "train" && p_.numerics.apd_percent <= 0)
       throw sph::ParameterError("parameter 'pacing' = " + p_.pacing.protocol + " needs the APD maps (apd_percent > 0)");
   }
+  bool checkpoints() const override { return true; }
   void run(RunContext& ctx) override {
     const Real dx = Real(3) / static_cast<Real>(p_.resolution);
     auto body = geometry::lattice_box<3>("slab", Vec3(0, 0, 0), Vec3(20, 7, 3), dx);
@@ -97,6 +98,7 @@ class NiedererSlabScene final : public Scene {
                                                                     {"P7", nearest(points[6])}},
                     1, 2);
       plan.every_step = [&](const sph::StepInfo&) { beats->record(); };
+      plan.state = [&](sph::StateArchive& a) { beats->checkpoint(a); };
     }
     run_monodomain<3>(monodomain, body, relation, probes, plan, ctx);
     if (beats) beats->finish(ctx.output_dir, pacing, p_.pacing.period, ctx.report);

@@ -65,6 +65,11 @@ class BeatRecorder {
   /// beats.csv (every beat at every point), restitution.csv and restitution.png (APD and CV of the S2
   /// beats against their DI) when there are S2 onsets, and the summary under results["beats"].
   void finish(const std::filesystem::path& folder, const PacingPlan& plan, double period, sph::RunReport& report) const;
+  /// Saves or loads the beats recorded so far (checkpoints).
+  void checkpoint(sph::StateArchive& archive) {
+    for (std::size_t p = 0; p < beats_.size(); ++p) archive.io("beats" + std::to_string(p), beats_[p]);
+    archive.io("counted", counted_);
+  }
 
  private:
   const cardio::Monodomain<Dim>& monodomain_;

@@ -34,6 +34,7 @@ class SpiralWaveScene final : public Scene {
           sph::Range::non_negative());
     declare_ep_numerics(p, p_.numerics, "ms");
   }
+  bool checkpoints() const override { return true; }
   void run(RunContext& ctx) override {
     const double L = p_.size;
     const Real dp = static_cast<Real>(L / static_cast<double>(p_.resolution));
@@ -81,12 +82,12 @@ class SpiralWaveScene final : public Scene {
                                       Vec2(3 * L / 4, 3 * L / 4), Vec2(L / 2, L / 2)};
     const sph::PointProbes<2> probes(observers, body.position, body.volume, kernel, h);
     double s2_onset = p_.s2_time;
+    bool excited = false;  // the centre has been excited by S1 (automatic S2)
     EpRunPlan plan{"spiral-wave", p_.end_time, p_.numerics.discretisation.output_interval, 0.5, false,
                    {"lower_left", "lower_right", "upper_left", "upper_right", "centre"}, {}, {}};
     if (p_.s2_time <= 0) {
       // Automatic S2: once the centre has been excited by S1 and has fallen back through -70 mV.
       const auto V = body.field(monodomain.potential_field());
-      bool excited = false;
       plan.every_step = [&, V](const sph::StepInfo& s) {
         if (s2_onset > 0) return;
         const double centre = probes.sample(4, V);
@@ -97,6 +98,13 @@ class SpiralWaveScene final : public Scene {
         }
       };
     }
+    plan.state = [&](sph::StateArchive& a) {
+      a.io("s2_onset", s2_onset);
+      a.io("excited", excited);
+      // The automatic S2 placed before the checkpoint is placed again.
+      if (a.loading() && p_.s2_time <= 0 && s2_onset > 0)
+        monodomain.stimuli()[1].protocol = {s2_onset, p_.stimulus_duration, p_.stimulus_strength, 0, 1};
+    };
     const auto traces = run_monodomain<2>(monodomain, body, relation, probes, plan, ctx);
 
     // Rotation period: intervals between successive upstrokes at each corner observer after S2,
