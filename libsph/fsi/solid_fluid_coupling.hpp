@@ -75,6 +75,10 @@ class SolidFluidCoupling {
   Vec<Dim> total_force() const;
   /// Solid steps taken so far.
   std::size_t solid_steps() const { return solid_steps_; }
+  /// Saves or loads what changes besides the solid's fields (checkpoints, taken between advection
+  /// steps): the solid step count. The relaxed acceleration is a field; the step's start state is
+  /// taken anew at every acoustic step.
+  void checkpoint(StateArchive& archive) { archive.io("solid_steps", solid_steps_); }
   const FluidWall<Dim>& wall() const { return wall_; }
   /// The thinnest extent of the solid through its particles along their normals (set-up check).
   Real thickness() const { return thickness_; }

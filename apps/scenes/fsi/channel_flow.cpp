@@ -247,9 +247,7 @@ class ChannelFlowScene final : public Scene {
     };
     plan.extend = [&](sph::RunHarness& run, sph::FluidStepHooks& hooks) {
       if (bar) {
-        run.add_body(bar->particles, static_cast<Real>(plan.output_interval),
-                     [&](double) { bar->solid->update_output_fields(); });
-        bar->coupling->add_to(hooks, run.timers());
+        bar->add_to(run, hooks, static_cast<Real>(plan.output_interval));
       } else {
         run.add_body(*cylinder_particles, 0);
       }

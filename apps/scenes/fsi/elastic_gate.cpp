@@ -82,6 +82,7 @@ class ElasticGateScene final : public Scene {
                                 ": the water and the gate must fit in the tank, and the gate's free part under the water");
   }
 
+  bool checkpoints() const override { return true; }
   void run(RunContext& ctx) override {
     const Real dp = static_cast<Real>(this->dp());
     const Real dps = dp / static_cast<Real>(p_.solid_ratio);
@@ -151,9 +152,15 @@ class ElasticGateScene final : public Scene {
       return std::vector<double>{d[0], d[1]};
     };
     plan.extend = [&](sph::RunHarness& run, sph::FluidStepHooks& hooks) {
-      run.add_body(gate->particles, static_cast<Real>(plan.output_interval),
-                   [&](double) { gate->solid->update_output_fields(); });
-      gate->coupling->add_to(hooks, run.timers());
+      gate->add_to(run, hooks, static_cast<Real>(plan.output_interval));
+    };
+    plan.state = [&](sph::StateArchive& a) {
+      a.io("max_dx", max_dx);
+      a.io("time_of_max_dx", time_of_max_dx);
+      a.io("max_dy", max_dy);
+      a.io("times", times);
+      a.io("dxs", dxs);
+      a.io("dys", dys);
     };
     run_fluid<2>(fluid, {&tank}, plan, ctx);
 

@@ -24,6 +24,15 @@ void declare_fsi_solid_numerics(sph::Parameters& p, FsiSolidNumerics& n) {
         {0, 1, true, false});
 }
 
+void FsiBody::add_to(sph::RunHarness& run, sph::FluidStepHooks& hooks, sph::Real output_interval) {
+  run.add_body(particles, output_interval, [this](double) { solid->update_output_fields(); });
+  coupling->add_to(hooks, run.timers());
+  run.add_state("fsi/" + particles.name(), [this](sph::StateArchive& a) {
+    solid->checkpoint(a);
+    coupling->checkpoint(a);
+  });
+}
+
 std::unique_ptr<FsiBody> make_fsi_body(sph::ParticleSet<2> particles, const std::vector<sph::Vec<2>>& normals,
                                        const FsiBodySpec& spec,
                                        const FsiSolidNumerics& numerics, sph::WeaklyCompressibleFluid<2>& fluid,

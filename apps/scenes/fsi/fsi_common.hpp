@@ -9,6 +9,7 @@
 
 #include "apps/scenes/fsi/fsi_scenes.hpp"
 #include "libsph/fsi/solid_fluid_coupling.hpp"
+#include "libsph/io/run_harness.hpp"
 
 namespace cardiosph {
 
@@ -18,6 +19,10 @@ struct FsiBody {
   sph::InnerRelation<2> relation;
   std::unique_ptr<sph::ElasticSolid<2>> solid;
   std::unique_ptr<sph::SolidFluidCoupling<2>> coupling;
+
+  /// Adds the body to a fluid run: its particles written every `output_interval`, the coupling on
+  /// the fluid's step, and the solid's and coupling's state to the checkpoints.
+  void add_to(sph::RunHarness& run, sph::FluidStepHooks& hooks, sph::Real output_interval);
 };
 
 struct FsiBodySpec {

@@ -71,6 +71,7 @@ class HydrostaticPlateScene final : public Scene {
     return -q * std::pow(L, 4) / (384 * D);
   }
 
+  bool checkpoints() const override { return true; }
   void run(RunContext& ctx) override {
     const Real dp = static_cast<Real>(fluid_dp()), dps = static_cast<Real>(solid_dp());
     const Real W = static_cast<Real>(p_.water_width), H = static_cast<Real>(p_.water_height);
@@ -131,9 +132,11 @@ class HydrostaticPlateScene final : public Scene {
       return std::vector<double>{w, reference};
     };
     plan.extend = [&](sph::RunHarness& run, sph::FluidStepHooks& hooks) {
-      run.add_body(plate->particles, static_cast<Real>(plan.output_interval),
-                   [&](double) { plate->solid->update_output_fields(); });
-      plate->coupling->add_to(hooks, run.timers());
+      plate->add_to(run, hooks, static_cast<Real>(plan.output_interval));
+    };
+    plan.state = [&](sph::StateArchive& a) {
+      a.io("sum", sum);
+      a.io("samples", samples);
     };
     run_fluid<2>(fluid, {&walls}, plan, ctx);
 
