@@ -51,6 +51,8 @@ class InflowZone {
   /// Adds emission (before the neighbour search) and imposition (after every acoustic step).
   void add_to(FluidStepHooks& hooks, SectionTimers& timers);
   std::size_t emitted() const { return emitted_; }
+  /// Saves or loads the count emitted (checkpoints); which particle is in the buffer is a field.
+  void checkpoint(StateArchive& archive) { archive.io("emitted", emitted_); }
 
  private:
   bool inside(const Vec<Dim>& x) const;
@@ -70,6 +72,8 @@ class OutflowZone {
   std::size_t remove();
   void add_to(FluidStepHooks& hooks, SectionTimers& timers);
   std::size_t removed() const { return removed_; }
+  /// Saves or loads the count removed (checkpoints).
+  void checkpoint(StateArchive& archive) { archive.io("removed", removed_); }
 
  private:
   WeaklyCompressibleFluid<Dim>& fluid_;

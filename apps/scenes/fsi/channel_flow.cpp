@@ -122,6 +122,7 @@ class ChannelFlowScene final : public Scene {
                                 " must be a whole number of particle spacings " + std::to_string(dp()));
   }
 
+  bool checkpoints() const override { return true; }
   void run(RunContext& ctx) override {
     const Real dp = static_cast<Real>(this->dp());
     const Real dps = dp / static_cast<Real>(p_.solid_ratio);
@@ -257,6 +258,17 @@ class ChannelFlowScene final : public Scene {
                                   force_time += dt;
                                 },
                                 {}});
+    };
+    plan.state = [&](sph::StateArchive& a) {
+      auto inlet_state = a.part("inlet");
+      inlet->checkpoint(inlet_state);
+      a.io("times", times);
+      a.io("tip_x", tip_x);
+      a.io("tip_y", tip_y);
+      a.io("drag", drag);
+      a.io("lift", lift);
+      a.io("force_sum", force_sum);
+      a.io("force_time", force_time);
     };
     run_fluid<2>(fluid, {&walls}, plan, ctx);
     write_snapshot(ctx, water, fluid, bar ? bar->particles : *cylinder_particles);
