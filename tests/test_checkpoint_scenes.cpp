@@ -238,6 +238,8 @@ TEST_P(SceneCheckpoint, InterruptedAndResumedRunIsTheUninterruptedOne) {
 
 const std::vector<ResumeCase>& resume_cases() {
   static const std::vector<ResumeCase> cases{
+      ResumeCase{"diffusion", {"resolution=20", "end_time=0.5", "output_interval=0.1"}, "0.2"},
+      ResumeCase{"diffusion-aniso", {"resolution=24", "end_time=0.5", "output_interval=0.1"}, "0.2"},
       ResumeCase{"dambreak", {"resolution=20", "end_time=1", "output_interval=0.25"}, "0.3"},
       ResumeCase{"dambreak-3d", {"resolution=8", "end_time=0.5", "output_interval=0.1", "sort_interval=10"}, "0.2"},
       ResumeCase{"hydrostatic-tank", {"resolution=10", "end_time=1", "output_interval=0.25", "sort_interval=10"}, "0.4"},

@@ -68,7 +68,8 @@ void run_diffusion_problem(const DiffusionProblem& problem, RunContext& ctx) {
   sph::TimeStepper stepper(0, static_cast<Real>(problem.end_time));
   stepper.add_stage(sph::make_stage("diffusion", [&] { return diffusion.stable_time_step(); },
                                     [&](Real t, Real dt) { diffusion.advance(t, dt); }));
-  sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, problem.scene, ctx.quiet});
+  // Checkpoints hold the body and the run: the diffusion system keeps nothing else that changes.
+  sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, problem.scene, ctx.quiet, ctx.checkpoint});
   run.add_body(body, static_cast<Real>(problem.numerics.discretisation.output_interval), [&](double t) {
     for (std::size_t i = 0; i < body.n_particles(); ++i)
       C_exact[i] = static_cast<Real>(t > 0 ? problem.exact(body.position[i], t) : problem.initial(body.position[i], dp));
@@ -133,6 +134,7 @@ class DiffusionBandScene final : public Scene {
     if (std::abs(rows - std::round(rows)) > 1e-9 * rows || std::round(rows) < 1)
       throw sph::ParameterError("parameter 'box_height' must be a whole number of particle spacings (box_length / resolution)");
   }
+  bool checkpoints() const override { return true; }
   void run(RunContext& ctx) override {
     const double a = p_.band_start, b = p_.band_end, D = p_.diffusivity;
     DiffusionProblem problem;
@@ -192,6 +194,7 @@ class DiffusionGaussianScene final : public Scene {
       throw sph::ParameterError(error.what());
     }
   }
+  bool checkpoints() const override { return true; }
   void run(RunContext& ctx) override {
     const double s0 = p_.initial_width;
     const Vec2 centre = Vec2::Constant(static_cast<Real>(p_.box_size / 2));
