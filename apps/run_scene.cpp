@@ -106,9 +106,13 @@ SceneRunResult run_scene(const std::string& scene_name, const CommonOptions& opt
   const bool resuming = !options.resume.empty();
   const bool interrupt_asked = !std::isnan(options.interrupt_at);
   const bool wants_checkpoints = resuming || options.checkpoint_interval > 0 || interrupt_asked;
-  if (wants_checkpoints && !scene->checkpoints())
+  if (wants_checkpoints && !scene->checkpoints()) {
+    std::string can;
+    for (const auto& other : scene_registry())
+      if (other.make()->checkpoints()) can += (can.empty() ? "" : ", ") + other.name;
     throw sph::ParameterError("scene '" + scene_name + "' does not save its whole state, so it cannot be checkpointed or resumed "
-                              "(--checkpoint-interval, --interrupt-at, --resume); scenes that can: heart");
+                              "(--checkpoint-interval, --interrupt-at, --resume); scenes that can: " + can);
+  }
   if (!(options.checkpoint_interval >= 0) || !std::isfinite(options.checkpoint_interval))
     throw sph::ParameterError("option '--checkpoint-interval' = " + exact(options.checkpoint_interval) + ": must be >= 0 (simulated time)");
   if (interrupt_asked && !(options.interrupt_at >= 0 && std::isfinite(options.interrupt_at)))
