@@ -266,7 +266,8 @@ const std::vector<ResumeCase>& resume_cases() {
       ResumeCase{"elastic-gate", {"resolution=1", "end_time=40", "output_interval=10", "sort_interval=10"}, "15"},
       ResumeCase{"hydrostatic-plate", {"resolution=2", "end_time=0.05", "output_interval=0.01", "sort_interval=10"}, "0.02"},
       ResumeCase{"turek-hron-fsi2", {"resolution=10", "end_time=3", "output_interval=1", "sort_interval=10"}, "1.3"},
-      ResumeCase{"cylinder-flow", {"resolution=10", "end_time=3", "output_interval=1", "sort_interval=10"}, "1.3"}};
+      ResumeCase{"cylinder-flow", {"resolution=10", "end_time=3", "output_interval=1", "sort_interval=10"}, "1.3"},
+      ResumeCase{"sod-shock-tube", {"resolution=100", "output_interval=0.05"}, "0.08"}};
   return cases;
 }
 

@@ -71,7 +71,7 @@ TEST_F(Cli, HeartNodeStimulusNeedsATetrahedralMesh) {
 TEST_F(Cli, ImpossibleCheckpointOptionsAreRejected) {
   expect_rejected({"heart", "--checkpoint-interval", "-1"}, "option '--checkpoint-interval' = -1: must be >= 0");
   expect_rejected({"heart", "--interrupt-at", "-2"}, "option '--interrupt-at' = -2: must be a simulated time >= 0");
-  expect_rejected({"diffusion", "--checkpoint-interval", "1"}, "scene 'diffusion' does not save its whole state");
+  expect_rejected({"homogeneous-deformation", "--checkpoint-interval", "1"}, "scene 'homogeneous-deformation' does not save its whole state");
   EXPECT_EQ(run({"heart", "--resume", (folder_ / "nowhere").string()}), 2);
   EXPECT_NE(stderr_.find("nowhere/checkpoint.bin' does not exist"), std::string::npos) << stderr_;
   EXPECT_FALSE(fs::exists(folder_ / "nowhere.resume"));

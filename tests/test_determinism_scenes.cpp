@@ -1,7 +1,8 @@
 // Every scene family, run briefly at coarse resolution with 1 and with 2 threads, writes the same
 // bytes: each .vtu state (every output field), each .csv time series and the results of
 // report.json other than timings and memory. Families: diffusion, solid, cell model and tissue
-// electrophysiology, electromechanics (with its geometry stage), geometry, fluid, fluid-structure.
+// electrophysiology, electromechanics (with its geometry stage), geometry, fluid, fluid-structure,
+// impact.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -86,9 +87,10 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"particles", {"dp=1.5", "relaxation_steps=20"}},
                       Case{"heart", {"preset=coarse", "end_time=3", "output_interval=1"}},
                       Case{"dambreak", {"resolution=20", "end_time=1"}},
-                      Case{"hydrostatic-plate", {"end_time=0.02"}}),
-    [](const ::testing::TestParamInfo<Case>& info) {
-      std::string name = info.param.scene;
+                      Case{"hydrostatic-plate", {"end_time=0.02"}},
+                      Case{"sod-shock-tube", {"resolution=100", "end_time=0.1"}}),
+    [](const ::testing::TestParamInfo<Case>& param) {
+      std::string name = param.param.scene;
       std::replace(name.begin(), name.end(), '-', '_');
       return name;
     });

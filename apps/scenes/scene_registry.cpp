@@ -4,6 +4,7 @@
 #include "apps/scenes/fluid/fluid_scenes.hpp"
 #include "apps/scenes/fsi/fsi_scenes.hpp"
 #include "apps/scenes/geometry/geometry_scenes.hpp"
+#include "apps/scenes/impact/impact_scenes.hpp"
 #include "apps/scenes/scene.hpp"
 #include "apps/scenes/solid/solid_scenes.hpp"
 
@@ -70,6 +71,9 @@ const std::vector<SceneEntry>& scene_registry() {
       {"elastic-gate", "2D dam break through an elastic gate (Antoci et al. 2007, SPHinXsys setup): gate-tip "
                        "displacement x(t), y(t)",
        [] { return make_elastic_gate_scene(); }},
+      {"sod-shock-tube", "2D slab of Sod's shock tube, ideal gas, updated-Lagrangian SPH: L1 errors of density, "
+                         "velocity and pressure against the exact Riemann solution",
+       [] { return make_sod_shock_tube_scene(); }},
   };
   return scenes;
 }

@@ -1,0 +1,140 @@
+// The impact family's building blocks: the Tillotson equation of state (its branches, derivatives
+// and published sets) and the exact Riemann solution of the ideal-gas shock tube (against the star
+// states tabulated by Toro 2009, and the conservation of mass, momentum and energy by its waves).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "libsph/impact/exact_riemann.hpp"
+#include "libsph/impact/tillotson.hpp"
+
+namespace {
+
+using sph::TillotsonState;
+
+TEST(Tillotson, AtRestThePressureIsZeroAndTheSoundSpeedIsTheBulkOne) {
+  for (const auto& material : sph::tillotson_materials()) {
+    const auto& m = material.parameters;
+    EXPECT_NO_THROW(m.check()) << material.name;
+    const auto s = sph::tillotson(m, m.reference_density, 0);
+    EXPECT_EQ(s.pressure, 0) << material.name;
+    // c0^2 = A / rho0 (bound: rounding).
+    const double c2 = s.sound_speed_squared(m.reference_density), expected = m.A / m.reference_density;
+    EXPECT_NEAR(c2, expected, 1e-12 * expected) << material.name;
+    std::printf("[ measured ] %s: c0 = %.1f m/s (sqrt(A / rho0) = %.1f)\n", material.name.c_str(), std::sqrt(c2),
+                std::sqrt(expected));
+  }
+}
+
+TEST(Tillotson, PartialDerivativesMatchFiniteDifferencesInEveryBranch) {
+  const auto& m = sph::tillotson_material("basalt").parameters;
+  struct Case {
+    double eta, e;
+    TillotsonState::Branch branch;
+  };
+  const double mid = 0.5 * (m.e_iv + m.e_cv);
+  for (const Case c : {Case{1.2, 1e6, TillotsonState::Branch::compressed}, Case{0.9, 0.5 * m.e_iv, TillotsonState::Branch::cold_expanded},
+                       Case{0.9, mid, TillotsonState::Branch::interpolated}, Case{0.5, 2 * m.e_cv, TillotsonState::Branch::hot_expanded}}) {
+    const double rho = c.eta * m.reference_density;
+    const auto s = sph::tillotson(m, rho, c.e);
+    EXPECT_EQ(s.branch, c.branch) << "eta " << c.eta << ", e " << c.e;
+    const double hr = 1e-6 * rho, he = 1e-6 * std::max(c.e, 1.0);
+    const double dp_drho = (sph::tillotson(m, rho + hr, c.e).pressure - sph::tillotson(m, rho - hr, c.e).pressure) / (2 * hr);
+    const double dp_de = (sph::tillotson(m, rho, c.e + he).pressure - sph::tillotson(m, rho, c.e - he).pressure) / (2 * he);
+    // Bound: central differences, truncation and rounding, relative 1e-6.
+    EXPECT_NEAR(s.dp_drho, dp_drho, 1e-6 * std::abs(dp_drho)) << "eta " << c.eta << ", e " << c.e;
+    EXPECT_NEAR(s.dp_de, dp_de, 1e-6 * std::abs(dp_de)) << "eta " << c.eta << ", e " << c.e;
+  }
+}
+
+TEST(Tillotson, ExpandedPressureIsContinuousAcrossTheVaporisationEnergies) {
+  for (const auto& material : sph::tillotson_materials()) {
+    const auto& m = material.parameters;
+    const double rho = 0.8 * m.reference_density;
+    for (const double e : {m.e_iv, m.e_cv}) {
+      const double below = sph::tillotson(m, rho, e * (1 - 1e-12)).pressure, above = sph::tillotson(m, rho, e * (1 + 1e-12)).pressure;
+      EXPECT_NEAR(below, above, 1e-8 * std::max(std::abs(below), m.A * 1e-6)) << material.name << " at e = " << e;
+    }
+  }
+}
+
+TEST(Tillotson, ImpossibleParametersAndUnknownNamesAreRefused) {
+  auto m = sph::tillotson_material("ice").parameters;
+  m.e_cv = m.e_iv;
+  try {
+    m.check();
+    FAIL() << "e_cv = e_iv accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("0 <= e_iv < e_cv"), std::string::npos) << e.what();
+  }
+  try {
+    sph::tillotson_material("cheese");
+    FAIL() << "an unknown material accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("basalt, granite, ice"), std::string::npos) << e.what();
+  }
+}
+
+// Toro 2009, tables 4.1 (data, gamma = 1.4) and 4.3 (exact star states, to the digits printed).
+TEST(ExactRiemann, StarStatesOfTorosFiveTests) {
+  struct Case {
+    sph::GasState left, right;
+    double p, u, rho_left, rho_right;
+  };
+  const Case cases[] = {
+      {{1, 0, 1}, {0.125, 0, 0.1}, 0.30313, 0.92745, 0.42632, 0.26557},
+      {{1, -2, 0.4}, {1, 2, 0.4}, 0.00189, 0.00000, 0.02185, 0.02185},
+      {{1, 0, 1000}, {1, 0, 0.01}, 460.894, 19.5975, 0.57506, 5.99924},
+      {{1, 0, 0.01}, {1, 0, 100}, 46.0950, -6.19633, 5.99242, 0.57511},
+      {{5.99924, 19.5975, 460.894}, {5.99242, -6.19633, 46.0950}, 1691.64, 8.68975, 14.2823, 31.0426},
+  };
+  int k = 1;
+  for (const auto& c : cases) {
+    const sph::ExactRiemannSolution r(c.left, c.right, 1.4);
+    std::printf("[ measured ] test %d: p* %.6g (%.6g), u* %.6g (%.6g), rho*L %.6g (%.6g), rho*R %.6g (%.6g); %d iterations\n", k,
+                r.star_pressure(), c.p, r.star_velocity(), c.u, r.star_density_left(), c.rho_left, r.star_density_right(),
+                c.rho_right, r.iterations());
+    // Bound: the table's last printed digit (relative 3e-5, or 1e-5 absolute for u* = 0).
+    auto near = [](double value, double reference) { return std::abs(value - reference) <= std::max(3e-5 * std::abs(reference), 1e-5); };
+    EXPECT_TRUE(near(r.star_pressure(), c.p)) << "test " << k;
+    EXPECT_TRUE(near(r.star_velocity(), c.u)) << "test " << k;
+    EXPECT_TRUE(near(r.star_density_left(), c.rho_left)) << "test " << k;
+    EXPECT_TRUE(near(r.star_density_right(), c.rho_right)) << "test " << k;
+    ++k;
+  }
+}
+
+// Over [-1, 1] at t = 0.2 the Sod waves stay inside, so the integrals of rho, rho u and
+// E = p / (gamma - 1) + rho u^2 / 2 keep their initial values: a check of every wave's formulas.
+TEST(ExactRiemann, SodSolutionConservesMassMomentumAndEnergy) {
+  const double gamma = 1.4, t = 0.2;
+  const sph::GasState left{1, 0, 1}, right{0.125, 0, 0.1};
+  const sph::ExactRiemannSolution r(left, right, gamma);
+  const int n = 400000;
+  double mass = 0, momentum = 0, energy = 0;
+  for (int i = 0; i < n; ++i) {
+    const double x = -1 + (i + 0.5) * 2.0 / n;
+    const auto s = r.sample(x / t);
+    mass += s.density * 2.0 / n;
+    momentum += s.density * s.velocity * 2.0 / n;
+    energy += (s.pressure / (gamma - 1) + 0.5 * s.density * s.velocity * s.velocity) * 2.0 / n;
+  }
+  const double mass0 = left.density + right.density, energy0 = (left.pressure + right.pressure) / (gamma - 1);
+  std::printf("[ measured ] Sod at t = 0.2: mass %.8f (%.8f), momentum %.6f (p_L - p_R) t = 0.18, energy %.8f (%.8f)\n", mass, mass0, momentum,
+              energy, energy0);
+  // Bound: midpoint quadrature across the jumps, about one cell's worth (relative 1e-5).
+  EXPECT_NEAR(mass, mass0, 1e-5 * mass0);
+  EXPECT_NEAR(energy, energy0, 1e-5 * energy0);
+  // The momentum flux is p at both ends: d/dt of the momentum is p_L - p_R.
+  EXPECT_NEAR(momentum, (left.pressure - right.pressure) * t, 1e-5);
+}
+
+TEST(ExactRiemann, VacuumAndImpossibleStatesAreRefused) {
+  EXPECT_THROW(sph::ExactRiemannSolution({1, -20, 0.4}, {1, 20, 0.4}, 1.4), std::invalid_argument);
+  EXPECT_THROW(sph::ExactRiemannSolution({1, 0, -1}, {1, 0, 1}, 1.4), std::invalid_argument);
+  EXPECT_THROW(sph::ExactRiemannSolution({1, 0, 1}, {1, 0, 1}, 1.0), std::invalid_argument);
+}
+
+}  // namespace
