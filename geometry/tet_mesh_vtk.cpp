@@ -6,9 +6,13 @@
 #include <cctype>
 #include <cmath>
 #include <iterator>
-#include <new>
+#include <cstdlib>
 #include <fstream>
+#include <new>
+#include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <vtkCellData.h>
 #include <vtkCellType.h>
@@ -133,6 +137,173 @@ void check_vtu_sizes(const fs::path& path, const std::string& text) {
   each("NumberOfCells", 1100.0 * double(text.size()));
 }
 
+// The element structure of a .vtu up to its appended data, checked before VTK reads it: VTK 9.1's XML
+// reader dereferences null or reads past arrays on files that are well-formed XML but not a sound
+// grid (a cell array shorter than the cells, a missing connectivity array, a data array without a
+// format, two arrays of one name). Checked: one grid of pieces; in each piece one Points array of 3
+// components and the Cells arrays connectivity, offsets and types, each once; every data array of a
+// known type and format, its name unique beside it; and each ascii array holding exactly the values
+// its piece announces (points x components, cells x components, the last offset for connectivity).
+// Arrays in binary or appended form are sized by VTK from their own headers.
+struct XmlElement {
+  std::string name, text;
+  std::vector<std::pair<std::string, std::string>> attributes;
+  std::vector<std::size_t> children;
+  const std::string* attribute(const std::string& key) const {
+    for (const auto& [k, v] : attributes)
+      if (k == key) return &v;
+    return nullptr;
+  }
+};
+
+std::vector<XmlElement> parse_elements(const fs::path& path, const std::string& text, std::size_t end) {
+  std::vector<XmlElement> elements(1);  // 0: the document
+  std::vector<std::size_t> open{0};
+  auto malformed = [&](std::size_t at, const std::string& what) {
+    fail(path, "malformed XML at byte " + std::to_string(at) + ": " + what);
+  };
+  std::size_t at = text.find('<');
+  while (at < end) {
+    if (text.compare(at, 4, "<!--") == 0) {
+      const auto close = text.find("-->", at);
+      if (close >= end) malformed(at, "unterminated comment");
+      at = text.find('<', close);
+      continue;
+    }
+    const auto close = text.find('>', at);
+    if (close >= end) malformed(at, "unterminated tag");
+    if (text[at + 1] == '?' || text[at + 1] == '!') {
+      at = text.find('<', close);
+      continue;
+    }
+    if (text[at + 1] == '/') {
+      std::string name = text.substr(at + 2, close - at - 2);
+      while (!name.empty() && std::isspace(static_cast<unsigned char>(name.back()))) name.pop_back();
+      if (open.size() < 2 || elements[open.back()].name != name) malformed(at, "</" + name + "> closes nothing open");
+      open.pop_back();
+      at = text.find('<', close);
+      continue;
+    }
+    const bool empty = text[close - 1] == '/';
+    const std::string tag = text.substr(at + 1, close - at - 1 - (empty ? 1 : 0));
+    XmlElement e;
+    std::size_t k = 0;
+    while (k < tag.size() && !std::isspace(static_cast<unsigned char>(tag[k]))) ++k;
+    e.name = tag.substr(0, k);
+    if (e.name.empty()) malformed(at, "a tag without a name");
+    while (true) {
+      while (k < tag.size() && std::isspace(static_cast<unsigned char>(tag[k]))) ++k;
+      if (k >= tag.size()) break;
+      const auto eq = tag.find('=', k);
+      if (eq == std::string::npos || eq + 1 >= tag.size() || (tag[eq + 1] != '"' && tag[eq + 1] != '\'')) malformed(at, "an attribute without a quoted value");
+      const auto quote_end = tag.find(tag[eq + 1], eq + 2);
+      if (quote_end == std::string::npos) malformed(at, "an unterminated attribute value");
+      std::string key = tag.substr(k, eq - k);
+      while (!key.empty() && std::isspace(static_cast<unsigned char>(key.back()))) key.pop_back();
+      e.attributes.emplace_back(key, tag.substr(eq + 2, quote_end - eq - 2));
+      k = quote_end + 1;
+    }
+    const std::size_t next = std::min(text.find('<', close), end);
+    if (!empty) e.text = text.substr(close + 1, next - close - 1);
+    elements.push_back(std::move(e));
+    elements[open.back()].children.push_back(elements.size() - 1);
+    if (!empty) open.push_back(elements.size() - 1);
+    at = next;
+  }
+  return elements;
+}
+
+void check_vtu_structure(const fs::path& path, const std::string& text) {
+  const std::size_t appended = std::min(text.find("<AppendedData"), text.size());
+  const auto elements = parse_elements(path, text, appended);
+  auto children = [&](const XmlElement& e, const std::string& name) {
+    std::vector<const XmlElement*> out;
+    for (auto c : e.children)
+      if (elements[c].name == name) out.push_back(&elements[c]);
+    return out;
+  };
+  auto count_of = [&](const XmlElement& e, const char* key) -> long long {
+    const auto* v = e.attribute(key);
+    return v ? std::stoll(*v) : 1;  // the attributes are checked as counts by check_vtu_sizes
+  };
+  static const std::initializer_list<const char*> types = {"Int8", "UInt8", "Int16", "UInt16", "Int32", "UInt32", "Int64",
+                                                           "UInt64", "Float32", "Float64", "String", "Bit"};
+  // A data array: known type and format; an ascii one holds `values` numbers (negative: not checked).
+  auto check_array = [&](const XmlElement& a, const std::string& where, long long rows) {
+    const auto* type = a.attribute("type");
+    if (!type || std::none_of(types.begin(), types.end(), [&](const char* t) { return *type == t; }))
+      fail(path, "a data array in " + where + " has " + (type ? "the unknown type '" + *type + "'" : "no type"));
+    const auto* format = a.attribute("format");
+    if (!format) fail(path, "a data array in " + where + " has no format (ascii, binary or appended)");
+    if (*format == "appended" && !a.attribute("offset")) fail(path, "an appended data array in " + where + " has no offset");
+    if (*format != "ascii" || rows < 0) return;
+    const long long expected = rows * count_of(a, "NumberOfComponents");
+    std::istringstream values(a.text);
+    long long n = 0;
+    for (std::string v; values >> v;) ++n;
+    if (n != expected)
+      fail(path, "the ascii array " + (a.attribute("Name") ? "'" + *a.attribute("Name") + "' " : std::string()) + "in " + where +
+                     " holds " + std::to_string(n) + " values, expected " + std::to_string(expected));
+  };
+  auto unique_arrays = [&](const XmlElement& parent, const std::string& where, long long rows) {
+    std::vector<std::string> names;
+    for (const auto* a : children(parent, "DataArray")) {
+      check_array(*a, where, rows);
+      const std::string name = a->attribute("Name") ? *a->attribute("Name") : "";
+      if (std::find(names.begin(), names.end(), name) != names.end()) fail(path, where + " has two arrays named '" + name + "'");
+      names.push_back(name);
+    }
+  };
+  const auto files = children(elements[0], "VTKFile");
+  if (files.size() != 1) fail(path, "not one VTKFile element");
+  const auto grids = children(*files[0], "UnstructuredGrid");
+  if (grids.size() != 1) fail(path, "not one UnstructuredGrid element");
+  const auto pieces = children(*grids[0], "Piece");
+  if (pieces.empty()) fail(path, "no Piece");
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    const auto& piece = *pieces[k];
+    const std::string name = "piece " + std::to_string(k);
+    const long long n_points = count_of(piece, "NumberOfPoints"), n_cells = count_of(piece, "NumberOfCells");
+    if (!piece.attribute("NumberOfPoints") || !piece.attribute("NumberOfCells")) fail(path, name + " has no point or cell count");
+    for (const char* part : {"PointData", "CellData", "Points", "Cells"})
+      if (children(piece, part).size() > 1) fail(path, name + " has more than one " + part);
+    for (const auto* d : children(piece, "PointData")) unique_arrays(*d, name + " PointData", n_points);
+    for (const auto* d : children(piece, "CellData")) unique_arrays(*d, name + " CellData", n_cells);
+    const auto points = children(piece, "Points");
+    if (points.size() != 1 || children(*points[0], "DataArray").size() != 1) fail(path, name + " needs one Points array");
+    const auto& coordinates = *children(*points[0], "DataArray")[0];
+    if (count_of(coordinates, "NumberOfComponents") != 3) fail(path, name + ": the Points array needs 3 components");
+    check_array(coordinates, name + " Points", n_points);
+    const auto cells = children(piece, "Cells");
+    if (cells.size() != 1) fail(path, name + " has no Cells");
+    long long connectivity_length = -1;  // the last offset, when the offsets are ascii
+    const XmlElement* connectivity = nullptr;
+    std::vector<std::string> seen;
+    for (const auto* a : children(*cells[0], "DataArray")) {
+      const std::string array = a->attribute("Name") ? *a->attribute("Name") : "";
+      if (std::find(seen.begin(), seen.end(), array) != seen.end()) fail(path, name + " Cells has two arrays named '" + array + "'");
+      seen.push_back(array);
+      if (array == "connectivity") {
+        connectivity = a;
+        check_array(*a, name + " Cells", -1);
+      } else if (array == "offsets" || array == "types") {
+        check_array(*a, name + " Cells", n_cells);
+        if (array == "offsets" && *a->attribute("format") == "ascii" && n_cells > 0) {
+          std::istringstream values(a->text);
+          std::string last;
+          for (std::string v; values >> v;) last = v;
+          char* rest = nullptr;
+          connectivity_length = std::strtoll(last.c_str(), &rest, 10);
+          if (*rest != '\0' || connectivity_length < 0) fail(path, name + ": the last offset '" + last + "' is not a count");
+        }
+      }
+    }
+    for (const char* needed : {"connectivity", "offsets", "types"})
+      if (std::find(seen.begin(), seen.end(), needed) == seen.end()) fail(path, name + " Cells has no '" + needed + "' array");
+    if (connectivity && connectivity_length >= 0) check_array(*connectivity, name + " Cells", connectivity_length);
+  }
+}
+
 // The text VTK is given: the file, with an empty <PointData/> added to every piece that has none.
 // A piece may leave PointData out, but when one of its cell arrays then fails to read (too short),
 // VTK 9.1 names the missing PointData element in its error message and dereferences null. With the
@@ -142,6 +313,7 @@ std::string text_for_vtk(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
   check_vtu_sizes(path, text);
+  check_vtu_structure(path, text);
   const std::size_t appended = std::min(text.find("<AppendedData"), text.size());
   for (auto at = text.find("<Piece"); at < appended; at = text.find("<Piece", at + 1)) {
     const auto open_end = text.find('>', at);

@@ -167,12 +167,10 @@ TEST(FuzzRegression, VtuDataArrayOfUnknownFormatIsRefusedBeforeVtk) {
   fs::remove(path);
 }
 
-TEST(FuzzRegression, VtuShortCellArrayWithoutPointDataIsABadMeshNotACrash) {
-  // A piece without PointData whose cell array is too short: VTK named the missing PointData element
-  // in its error message and dereferenced null. The same piece with a full array must still read.
-  auto piece = [](const std::string& regions) {
-    return vtu(R"(    <Piece NumberOfPoints="5" NumberOfCells="2">
-      <CellData><DataArray type="Int16" Name="region" format="ascii">)" + regions + R"(</DataArray></CellData>
+// A piece of two tetrahedra with the cell array `region` as given.
+std::string two_tets(const std::string& region) {
+  return vtu(R"(    <Piece NumberOfPoints="5" NumberOfCells="2">
+      <CellData>)" + region + R"(</CellData>
       <Points><DataArray type="Float64" NumberOfComponents="3" format="ascii">0 0 0 1 0 0 0 1 0 0 0 1 1 1 1</DataArray></Points>
       <Cells>
         <DataArray type="Int64" Name="connectivity" format="ascii">0 1 2 3 1 2 3 4</DataArray>
@@ -181,18 +179,50 @@ TEST(FuzzRegression, VtuShortCellArrayWithoutPointDataIsABadMeshNotACrash) {
       </Cells>
     </Piece>
 )");
-  };
-  const auto short_path = write_file("short_cells.vtu", piece("1"));
+}
+
+TEST(FuzzRegression, VtuShortCellArrayWithoutPointDataIsABadMeshNotACrash) {
+  // A piece without PointData whose cell array is too short: VTK named the missing PointData element
+  // in its error message and dereferenced null. A binary array (one Int16 value, base64 with its
+  // UInt32 byte count) reaches VTK, which now reports it; the same piece with a full array reads.
+  const auto short_path =
+      write_file("short_cells.vtu", two_tets(R"(<DataArray type="Int16" Name="region" format="binary">AgAAAAEA</DataArray>)"));
   const auto message = error_of([&] { geometry::read_tet_mesh(short_path); });
   EXPECT_NE(message.find("short_cells.vtu"), std::string::npos) << message;
   EXPECT_NE(message.find("VTK cannot read it"), std::string::npos) << message;
   fs::remove(short_path);
 
-  const auto full_path = write_file("full_cells.vtu", piece("7 8"));
+  const auto full_path = write_file("full_cells.vtu", two_tets(R"(<DataArray type="Int16" Name="region" format="ascii">7 8</DataArray>)"));
   const auto mesh = geometry::read_tet_mesh(full_path);
   EXPECT_EQ(mesh.tets.size(), 2u);
   EXPECT_EQ(mesh.tet_region, (std::vector<int>{7, 8}));
   fs::remove(full_path);
+}
+
+TEST(FuzzRegression, VtuStructureIsCheckedBeforeVtkReadsIt) {
+  // Inputs on which VTK's reader crashed (a cell array without a format beside a missing
+  // connectivity array) or read past an array: each is refused with what is wrong.
+  auto refused = [&](const std::string& content, const std::string& expected) {
+    const auto path = write_file("structure.vtu", content);
+    const auto message = error_of([&] { geometry::read_tet_mesh(path); });
+    EXPECT_NE(message.find(expected), std::string::npos) << message;
+    fs::remove(path);
+  };
+  refused(two_tets(R"(<DataArray type="Int16" Name="region" format="ascii">1</DataArray>)"),
+          "the ascii array 'region' in piece 0 CellData holds 1 values, expected 2");
+  refused(two_tets(R"(<DataArray type="Int16" Name="region">1 2</DataArray>)"), "a data array in piece 0 CellData has no format");
+  refused(two_tets(R"(<DataArray type="Int16" Name="r" format="ascii">1 2</DataArray><DataArray type="Int16" Name="r" format="ascii">1 2</DataArray>)"),
+          "piece 0 CellData has two arrays named 'r'");
+  refused(two_tets(R"(<DataArray type="Int17" Name="r" format="ascii">1 2</DataArray>)"), "has the unknown type 'Int17'");
+  std::string no_connectivity = two_tets("");
+  no_connectivity.erase(no_connectivity.find("        <DataArray type=\"Int64\" Name=\"connectivity\""),
+                        no_connectivity.find("        <DataArray type=\"Int64\" Name=\"offsets\"") -
+                            no_connectivity.find("        <DataArray type=\"Int64\" Name=\"connectivity\""));
+  refused(no_connectivity, "piece 0 Cells has no 'connectivity' array");
+  std::string short_connectivity = two_tets("");
+  short_connectivity.replace(short_connectivity.find("0 1 2 3 1 2 3 4"), 15, "0 1 2 3 1 2 3");
+  refused(short_connectivity, "the ascii array 'connectivity' in piece 0 Cells holds 7 values, expected 8");
+  refused(vtu("    <Piece NumberOfPoints=\"4\" NumberOfCells=\"1\">\n    </Piece>\n  </Unstructured"), "malformed XML");
 }
 
 TEST(FuzzRegression, VtuCellOfAnotherTypeBeyondThePointsIsNamedBeforeVtkBuildsIt) {
