@@ -138,3 +138,46 @@ TEST(ExactRiemann, VacuumAndImpossibleStatesAreRefused) {
 }
 
 }  // namespace
+
+// The updated-Lagrangian body stops, naming the particle, when its state explodes.
+#include "geometry/lattice.hpp"
+#include "libsph/core/numerical_failure.hpp"
+#include "libsph/impact/updated_lagrangian.hpp"
+
+namespace {
+
+TEST(UpdatedLagrangianBody, ExplodingStateStopsWithTheParticleNamed) {
+  using Vec2 = sph::Vec<2>;
+  auto gas = geometry::lattice_box<2>("gas", Vec2(0, 0), Vec2(1, 1), sph::Real(0.05));
+  sph::UpdatedLagrangianBody<2>::Settings s;
+  s.smoothing_length = sph::Real(0.06);
+  sph::UpdatedLagrangianBody<2> body(gas, s);
+  auto rho = gas.field(body.density_field());
+  auto e = gas.field(body.energy_field());
+  for (std::size_t i = 0; i < gas.n_particles(); ++i) {
+    rho[i] = 1;
+    e[i] = 1;
+  }
+  body.initialise();
+  const sph::Real dt = body.stable_time_step();
+  body.advance(0, dt);  // a quiet step
+  e[7] = sph::Real(1e13);  // then one particle holds an absurd energy: its sound speed is 2.4e6
+  try {
+    body.advance(dt, sph::Real(1e-15));  // a step short enough for nothing else to go wrong first
+    FAIL() << "an exploding state was stepped on";
+  } catch (const sph::NumericalFailure& failure) {
+    const std::string message = failure.what();
+    EXPECT_NE(message.find("particle 7"), std::string::npos) << message;
+    EXPECT_NE(message.find("time step"), std::string::npos) << message;
+    std::printf("[ measured ] %s\n", message.c_str());
+  }
+  // Stepped at its old pace, the same state drives a neighbour's energy negative: refused at once.
+  try {
+    body.advance(dt, dt);
+    FAIL() << "an exploding state was stepped on";
+  } catch (const sph::NumericalFailure& failure) {
+    EXPECT_NE(std::string(failure.what()).find("specific internal energy"), std::string::npos) << failure.what();
+  }
+}
+
+}  // namespace

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <vector>
@@ -61,6 +62,7 @@ void UpdatedLagrangianBody<Dim>::initialise() {
   for (std::size_t i = 0; i < particles_.n_particles(); ++i) m[i] = rho[i] * particles_.volume[i];
   check_state(0);
   compute_rates();
+  initial_time_step_ = stable_time_step();
 }
 
 template <int Dim>
@@ -171,6 +173,18 @@ void UpdatedLagrangianBody<Dim>::advance(Real time, Real dt) {
   check_state(time + dt);
   update_equation_of_state();
   ++steps_;
+  // An exploding state shrinks the step without bound: stop where it happens.
+  const Real next = stable_time_step();
+  if (next < Real(1e-6) * initial_time_step_) {
+    const auto c = particles_.field(sound_speed_);
+    std::size_t fastest = 0;
+    for (std::size_t i = 1; i < n; ++i)
+      if (c[i] + v[i].norm() > c[fastest] + v[fastest].norm()) fastest = i;
+    char problem[200];
+    std::snprintf(problem, sizeof problem, "%.3g is below 1e-6 of the initial %.3g (sound speed %.3g, speed %.3g)", double(next),
+                  double(initial_time_step_), double(c[fastest]), double(v[fastest].norm()));
+    throw NumericalFailure(particles_.name(), fastest, NumericalFailure::format_position(x[fastest]), time + dt, "time step", problem);
+  }
 }
 
 template <int Dim>

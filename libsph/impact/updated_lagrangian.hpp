@@ -18,7 +18,8 @@
 // variable smoothing lengths and self-gravity are not part of this body yet.
 //
 // Numerical failure (a density or internal energy that is not positive where the equation of state
-// needs it, a non-finite velocity) stops the run with a NumericalFailure naming particle and time.
+// needs it, a non-finite velocity, a stable step fallen below 1e-6 of the initial one) stops the run
+// with a NumericalFailure naming particle and time.
 
 #include <string>
 #include <variant>
@@ -94,6 +95,7 @@ class UpdatedLagrangianBody {
   FieldHandle<Real> mass_, density_, energy_, pressure_, sound_speed_, density_rate_, energy_rate_;
   FieldHandle<Vec<Dim>> velocity_, acceleration_;
   std::size_t steps_ = 0;
+  Real initial_time_step_ = 0;  // a step below 1e-6 of it stops the run
   std::vector<Vec<Dim>> v_half_;  // scratch of a step: the half-step state
   std::vector<Real> rho_half_, e_half_;
 };
