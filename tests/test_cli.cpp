@@ -88,6 +88,11 @@ TEST_F(Cli, UnknownOptionIsRejected) { expect_rejected({"diffusion", "--bogus"},
 TEST_F(Cli, UnknownSceneIsRejected) { expect_rejected({"study", "no-such-scene", "--sweep", "resolution=1,2"}, "unknown scene"); }
 TEST_F(Cli, ZeroResolutionIsRejected) { expect_rejected({"diffusion", "--resolution", "0"}, "'resolution'"); }
 TEST_F(Cli, NegativeResolutionIsRejected) { expect_rejected({"diffusion-aniso", "--resolution", "-5"}, "must be > 0"); }
+TEST_F(Cli, ImpossibleShockTubesAreRejected) {
+  expect_rejected({"sod-shock-tube", "--set", "gamma=1"}, "parameter 'gamma' (from --set) = 1: must be in (1, 10]");
+  expect_rejected({"sod-shock-tube", "--set", "tube_half_length=0.3"}, "parameter 'tube_half_length' = 0.300000 is too short");
+  expect_rejected({"sod-shock-tube", "--set", "rows=4"}, "parameter 'rows' = 4 is narrower than the kernel support");
+}
 TEST_F(Cli, NonIntegerResolutionIsRejected) { expect_rejected({"diffusion", "--resolution", "12.5"}, "not an integer"); }
 TEST_F(Cli, ZeroEndTimeIsRejected) { expect_rejected({"diffusion", "--end-time", "0"}, "'end_time'"); }
 TEST_F(Cli, NegativeEndTimeIsRejected) { expect_rejected({"diffusion", "--end-time", "-1"}, "'end_time'"); }

@@ -48,7 +48,7 @@ class SodShockTubeScene final : public Scene {
     p.add("tube_half_length", p_.tube_half_length, "-", "the tube is [-L, L]", sph::Range::positive());
     p.add("rows", p_.rows, "-", "particle rows across the periodic slab (at least the kernel support)",
           sph::Range::closed(3, 1000));
-    p.add("gamma", p_.gamma, "-", "ratio of specific heats of the ideal gas", {1, 10, false, true});
+    p.add("gamma", p_.gamma, "-", "ratio of specific heats of the ideal gas", {1, 10, true, false});
     p.add("left_density", p_.left_density, "-", "density for x < 0", sph::Range::positive());
     p.add("left_pressure", p_.left_pressure, "-", "pressure for x < 0", sph::Range::positive());
     p.add("right_density", p_.right_density, "-", "density for x > 0", sph::Range::positive());
