@@ -222,9 +222,17 @@ void check_vtu_structure(const fs::path& path, const std::string& text) {
       if (elements[c].name == name) out.push_back(&elements[c]);
     return out;
   };
+  // A count attribute (1 when absent). check_vtu_sizes has bounded the ones written key="value";
+  // this parser also reads other spellings (single quotes, spaces around '='), so each is checked here.
   auto count_of = [&](const XmlElement& e, const char* key) -> long long {
     const auto* v = e.attribute(key);
-    return v ? std::stoll(*v) : 1;  // the attributes are checked as counts by check_vtu_sizes
+    if (!v) return 1;
+    if (v->empty() || v->size() > 15 || v->find_first_not_of("0123456789") != std::string::npos)
+      fail(path, std::string(key) + " = '" + v->substr(0, 20) + "' is not a count");
+    const long long count = std::stoll(*v);
+    if (std::string(key) == "NumberOfComponents" && count > 64) fail(path, "NumberOfComponents = " + *v + " (at most 64 components are read)");
+    if (double(count) > 1100.0 * double(text.size())) fail(path, std::string(key) + " = " + *v + " is more than the file can hold");
+    return count;
   };
   static const std::initializer_list<const char*> types = {"Int8", "UInt8", "Int16", "UInt16", "Int32", "UInt32", "Int64",
                                                            "UInt64", "Float32", "Float64", "String", "Bit"};
@@ -236,8 +244,9 @@ void check_vtu_structure(const fs::path& path, const std::string& text) {
     const auto* format = a.attribute("format");
     if (!format) fail(path, "a data array in " + where + " has no format (ascii, binary or appended)");
     if (*format == "appended" && !a.attribute("offset")) fail(path, "an appended data array in " + where + " has no offset");
+    const long long components = count_of(a, "NumberOfComponents");
     if (*format != "ascii" || rows < 0) return;
-    const long long expected = rows * count_of(a, "NumberOfComponents");
+    const long long expected = rows * components;
     std::istringstream values(a.text);
     long long n = 0;
     for (std::string v; values >> v;) ++n;
