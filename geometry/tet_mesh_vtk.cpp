@@ -195,12 +195,14 @@ std::vector<XmlElement> parse_elements(const fs::path& path, const std::string& 
       while (k < tag.size() && std::isspace(static_cast<unsigned char>(tag[k]))) ++k;
       if (k >= tag.size()) break;
       const auto eq = tag.find('=', k);
-      if (eq == std::string::npos || eq + 1 >= tag.size() || (tag[eq + 1] != '"' && tag[eq + 1] != '\'')) malformed(at, "an attribute without a quoted value");
-      const auto quote_end = tag.find(tag[eq + 1], eq + 2);
+      auto quote = eq == std::string::npos ? tag.size() : eq + 1;
+      while (quote < tag.size() && std::isspace(static_cast<unsigned char>(tag[quote]))) ++quote;
+      if (quote >= tag.size() || (tag[quote] != '"' && tag[quote] != '\'')) malformed(at, "an attribute without a quoted value");
+      const auto quote_end = tag.find(tag[quote], quote + 1);
       if (quote_end == std::string::npos) malformed(at, "an unterminated attribute value");
       std::string key = tag.substr(k, eq - k);
       while (!key.empty() && std::isspace(static_cast<unsigned char>(key.back()))) key.pop_back();
-      e.attributes.emplace_back(key, tag.substr(eq + 2, quote_end - eq - 2));
+      e.attributes.emplace_back(key, tag.substr(quote + 1, quote_end - quote - 1));
       k = quote_end + 1;
     }
     const std::size_t next = std::min(text.find('<', close), end);
