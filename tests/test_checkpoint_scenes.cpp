@@ -267,7 +267,9 @@ const std::vector<ResumeCase>& resume_cases() {
       ResumeCase{"hydrostatic-plate", {"resolution=2", "end_time=0.05", "output_interval=0.01", "sort_interval=10"}, "0.02"},
       ResumeCase{"turek-hron-fsi2", {"resolution=10", "end_time=3", "output_interval=1", "sort_interval=10"}, "1.3"},
       ResumeCase{"cylinder-flow", {"resolution=10", "end_time=3", "output_interval=1", "sort_interval=10"}, "1.3"},
-      ResumeCase{"sod-shock-tube", {"resolution=100", "output_interval=0.05"}, "0.08"}};
+      ResumeCase{"sod-shock-tube", {"resolution=100", "output_interval=0.05"}, "0.08"},
+      // During the contact: the deviatoric stress is loaded.
+      ResumeCase{"rubber-rings", {"resolution=4", "end_time=8e-5", "output_interval=4e-5"}, "5e-5"}};
   return cases;
 }
 

@@ -181,3 +181,101 @@ TEST(UpdatedLagrangianBody, ExplodingStateStopsWithTheParticleNamed) {
 }
 
 }  // namespace
+
+// Strength: Hooke's law in the Jaumann rate with the corrected velocity gradient, von Mises
+// plasticity, and the settings that cannot work.
+namespace {
+
+using Vec2 = sph::Vec<2>;
+
+struct Block {
+  sph::ParticleSet<2> particles = geometry::lattice_box<2>("block", Vec2(0, 0), Vec2(1, 1), sph::Real(0.05));
+};
+
+TEST(UpdatedLagrangianStrength, SimpleShearLoadsTheShearStressAtTheShearModulus) {
+  // v = (gamma y, 0): eps'_xy = gamma / 2, so dS_xy/dt = 2 mu eps'_xy = mu gamma, at every particle,
+  // the edges included (the corrected gradient is exact for a linear field).
+  Block b;
+  sph::UpdatedLagrangianBody<2>::Settings s;
+  s.equation_of_state = sph::LinearPressure{1, 10};
+  s.smoothing_length = sph::Real(0.065);
+  s.shear_modulus = 50;
+  s.alpha = s.beta = 0;
+  sph::UpdatedLagrangianBody<2> body(b.particles, s);
+  auto rho = b.particles.field(body.density_field());
+  auto v = b.particles.field(body.velocity_field());
+  const sph::Real gamma = sph::Real(0.1);
+  for (std::size_t i = 0; i < b.particles.n_particles(); ++i) {
+    rho[i] = 1;
+    v[i] = Vec2(gamma * b.particles.position[i][1], 0);
+  }
+  body.initialise();
+  const sph::Real dt = sph::Real(0.1) * body.stable_time_step();
+  body.advance(0, dt);
+  const auto S = b.particles.field(body.deviatoric_stress_field());
+  double worst = 0;
+  for (std::size_t i = 0; i < b.particles.n_particles(); ++i)
+    worst = std::max(worst, std::abs(S[i](0, 1) / (50 * gamma * dt) - 1));
+  std::printf("[ measured ] simple shear: S_xy after one step within %.2e of mu gamma dt at every particle\n", worst);
+  // Bound 1e-3: the rotation terms and the drift of the lattice within the step are O(gamma dt) = 1e-5;
+  // the pressure waves from the free edges reach only the edge particles in one step.
+  EXPECT_LT(worst, 1e-3);
+}
+
+TEST(UpdatedLagrangianStrength, VonMisesKeepsTheEquivalentStressOnTheYieldSurface) {
+  // Stretching along x without end: the deviator grows at 2 mu until the yield strength caps it.
+  Block b;
+  sph::UpdatedLagrangianBody<2>::Settings s;
+  s.equation_of_state = sph::LinearPressure{1, 10};
+  s.smoothing_length = sph::Real(0.065);
+  s.shear_modulus = 50;
+  s.yield_strength = sph::Real(0.5);
+  sph::UpdatedLagrangianBody<2> body(b.particles, s);
+  auto rho = b.particles.field(body.density_field());
+  auto v = b.particles.field(body.velocity_field());
+  for (std::size_t i = 0; i < b.particles.n_particles(); ++i) {
+    rho[i] = 1;
+    v[i] = Vec2(sph::Real(2) * (b.particles.position[i][0] - sph::Real(0.5)), 0);
+  }
+  body.initialise();
+  sph::Real t = 0;
+  for (int step = 0; step < 20; ++step) {  // t = 0.02: the edge waves have not crossed the block
+    const sph::Real dt = body.stable_time_step();
+    body.advance(t, dt);
+    t += dt;
+  }
+  const auto S = b.particles.field(body.deviatoric_stress_field());
+  double highest = 0;
+  std::size_t at_yield = 0;
+  for (std::size_t i = 0; i < b.particles.n_particles(); ++i) {
+    const double trace = S[i](0, 0) + S[i](1, 1);
+    const double equivalent = std::sqrt(1.5 * (S[i].squaredNorm() + trace * trace));
+    highest = std::max(highest, equivalent);
+    at_yield += equivalent > 0.999 * 0.5;
+  }
+  std::printf("[ measured ] von Mises: highest equivalent stress %.6f (yield 0.5), %zu of %zu particles at yield\n", highest, at_yield,
+              b.particles.n_particles());
+  EXPECT_LE(highest, 0.5 * (1 + 1e-12));  // bound: rounding
+  EXPECT_GT(at_yield, b.particles.n_particles() / 2);  // and the flow has reached it
+}
+
+TEST(UpdatedLagrangianStrength, ImpossibleStrengthSettingsAreRefused) {
+  Block b;
+  auto refused = [&](auto edit, const char* words) {
+    sph::UpdatedLagrangianBody<2>::Settings s;
+    s.smoothing_length = sph::Real(0.065);
+    edit(s);
+    try {
+      sph::UpdatedLagrangianBody<2> body(b.particles, s);
+      ADD_FAILURE() << "accepted: " << words;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
+  };
+  refused([](auto& s) { s.shear_modulus = -1; }, "shear modulus");
+  refused([](auto& s) { s.yield_strength = 1; }, "yield strength needs strength");
+  refused([](auto& s) { s.artificial_stress = true; }, "artificial stress needs strength");
+  refused([](auto& s) { s.equation_of_state = sph::LinearPressure{0, 1}; }, "linear pressure");
+}
+
+}  // namespace

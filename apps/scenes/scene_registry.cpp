@@ -74,6 +74,9 @@ const std::vector<SceneEntry>& scene_registry() {
       {"sod-shock-tube", "2D slab of Sod's shock tube, ideal gas, updated-Lagrangian SPH: L1 errors of density, "
                          "velocity and pressure against the exact Riemann solution",
        [] { return make_sod_shock_tube_scene(); }},
+      {"rubber-rings", "two elastic rings colliding (Gray, Monaghan & Swift 2001), updated-Lagrangian SPH with strength: "
+       "with artificial stress they bounce whole, without it they tear",
+       [] { return make_rubber_rings_scene(); }},
   };
   return scenes;
 }

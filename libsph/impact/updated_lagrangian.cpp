@@ -4,6 +4,9 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <span>
+
+#include <Eigen/Eigenvalues>
 #include <stdexcept>
 #include <vector>
 
@@ -24,6 +27,8 @@ PressureAndSoundSpeed evaluate(const ImpactEquationOfState& eos, double rho, dou
     const double p = (gas->gamma - 1) * rho * e;
     return {p, std::sqrt(std::max(0.0, gas->gamma * p / rho))};
   }
+  if (const auto* linear = std::get_if<LinearPressure>(&eos))
+    return {linear->sound_speed * linear->sound_speed * (rho - linear->reference_density), linear->sound_speed};
   const auto& m = std::get<TillotsonParameters>(eos);
   const auto s = tillotson(m, rho, e);
   const double floor = 0.01 * m.A / m.reference_density;
@@ -44,6 +49,16 @@ UpdatedLagrangianBody<Dim>::UpdatedLagrangianBody(ParticleSet<Dim>& particles, S
   if (const auto* gas = std::get_if<IdealGas>(&settings_.equation_of_state); gas && !(gas->gamma > 1))
     throw std::invalid_argument(body + ": ideal gas gamma = " + std::to_string(gas->gamma) + " must be > 1");
   if (const auto* m = std::get_if<TillotsonParameters>(&settings_.equation_of_state)) m->check();
+  if (const auto* l = std::get_if<LinearPressure>(&settings_.equation_of_state); l && !(l->reference_density > 0 && l->sound_speed > 0))
+    throw std::invalid_argument(body + ": linear pressure needs a positive reference density and sound speed");
+  if (!(settings_.shear_modulus >= 0)) throw std::invalid_argument(body + ": shear modulus must be >= 0");
+  if (!(settings_.yield_strength >= 0)) throw std::invalid_argument(body + ": yield strength must be >= 0 (0: elastic)");
+  if (settings_.yield_strength > 0 && !(settings_.shear_modulus > 0))
+    throw std::invalid_argument(body + ": a yield strength needs strength (shear modulus > 0)");
+  if (!(settings_.artificial_stress_factor >= 0) || !(settings_.artificial_stress_exponent > 0))
+    throw std::invalid_argument(body + ": artificial stress factor must be >= 0 and its exponent > 0");
+  if (settings_.artificial_stress && !(settings_.shear_modulus > 0 && settings_.particle_spacing > 0))
+    throw std::invalid_argument(body + ": artificial stress needs strength (shear modulus > 0) and the particle spacing");
   mass_ = particles.template register_field<Real>("mass", 0);
   density_ = particles.template register_field<Real>("density", 0);
   velocity_ = particles.template register_field<Vec<Dim>>("velocity", Vec<Dim>::Zero());
@@ -53,6 +68,20 @@ UpdatedLagrangianBody<Dim>::UpdatedLagrangianBody(ParticleSet<Dim>& particles, S
   acceleration_ = particles.template register_field<Vec<Dim>>("acceleration", Vec<Dim>::Zero(), false);
   density_rate_ = particles.template register_field<Real>("density_rate", 0, false);
   energy_rate_ = particles.template register_field<Real>("energy_rate", 0, false);
+  if (settings_.shear_modulus > 0) {
+    deviatoric_stress_ = particles.template register_field<Mat<Dim>>("deviatoric_stress", Mat<Dim>::Zero());
+    stress_rate_ = particles.template register_field<Mat<Dim>>("deviatoric_stress_rate", Mat<Dim>::Zero(), false);
+  }
+}
+
+template <int Dim>
+void UpdatedLagrangianBody<Dim>::hold(std::vector<Index> particles) {
+  is_held_.assign(particles_.n_particles(), 0);
+  for (const Index i : particles) {
+    if (i >= particles_.n_particles()) throw std::invalid_argument("hold: particle " + std::to_string(i) + " does not exist");
+    is_held_[i] = 1;
+  }
+  held_ = std::move(particles);
 }
 
 template <int Dim>
@@ -72,10 +101,11 @@ void UpdatedLagrangianBody<Dim>::update_equation_of_state() {
   auto p = particles_.field(pressure_);
   auto c = particles_.field(sound_speed_);
   const auto& eos = settings_.equation_of_state;
+  const double shear_wave_term = 4.0 / 3.0 * settings_.shear_modulus;  // c^2 = c_eos^2 + 4 mu / (3 rho)
   parallel_for(particles_.n_particles(), [&](std::size_t i) {
     const auto s = evaluate(eos, rho[i], e[i]);
     p[i] = static_cast<Real>(s.pressure);
-    c[i] = static_cast<Real>(s.sound_speed);
+    c[i] = static_cast<Real>(std::sqrt(s.sound_speed * s.sound_speed + shear_wave_term / rho[i]));
   });
 }
 
@@ -87,6 +117,7 @@ void UpdatedLagrangianBody<Dim>::compute_rates() {
   else
     rebuild_inner_relation<Dim>(relation_, particles_.position, settings_.kernel, h);
   update_equation_of_state();
+  const std::size_t n = particles_.n_particles();
   const auto m = particles_.field(mass_);
   const auto rho = particles_.field(density_);
   const auto v = particles_.field(velocity_);
@@ -95,11 +126,55 @@ void UpdatedLagrangianBody<Dim>::compute_rates() {
   auto a = particles_.field(acceleration_);
   auto drho = particles_.field(density_rate_);
   auto de = particles_.field(energy_rate_);
-  const Real alpha = settings_.alpha, beta = settings_.beta, eps_h2 = settings_.epsilon * h * h;
   const auto& R = relation_;
-  // Gather over each particle's own row: every sum is in a fixed order, whatever the thread count.
-  parallel_for(particles_.n_particles(), [&](std::size_t i) {
+  const bool strength = settings_.shear_modulus > 0;
+  const bool artificial_stress = settings_.artificial_stress;
+  const Real mu = settings_.shear_modulus, I3 = Real(1) / Real(3);
+  // 1. With strength: each particle's corrected velocity gradient, the Jaumann stress rate, the
+  // stress power S : eps' / rho, and the artificial stress R_i.
+  std::span<Mat<Dim>> S, dS;
+  if (strength) {
+    S = particles_.field(deviatoric_stress_);
+    dS = particles_.field(stress_rate_);
+    tension_.resize(artificial_stress ? n : 0);
+    stress_power_.resize(n);
+    parallel_for(n, [&](std::size_t i) {
+      Mat<Dim> B = Mat<Dim>::Zero(), G = Mat<Dim>::Zero();
+      for (std::size_t k = R.offsets[i]; k < R.offsets[i + 1]; ++k) {
+        const std::size_t j = R.neighbour[k];
+        const Real volume = m[j] / rho[j];
+        const Vec<Dim> grad = R.kernel_derivative[k] * R.unit_vector[k];
+        B -= volume * R.distance[k] * R.unit_vector[k] * grad.transpose();  // x_j - x_i = -r e_ij
+        G += volume * (v[j] - v[i]) * grad.transpose();
+      }
+      const Real det = B.determinant();
+      const Mat<Dim> grad_v = std::abs(det) > Real(1e-6) ? Mat<Dim>(G * B.inverse()) : G;
+      const Mat<Dim> strain_rate = Real(0.5) * (grad_v + grad_v.transpose());
+      const Mat<Dim> spin = Real(0.5) * (grad_v - grad_v.transpose());
+      dS[i] = 2 * mu * (strain_rate - I3 * strain_rate.trace() * Mat<Dim>::Identity()) + S[i] * spin.transpose() + spin * S[i];
+      stress_power_[i] = (S[i].cwiseProduct(strain_rate)).sum() / rho[i];
+      if (artificial_stress) {
+        const Mat<Dim> sigma = S[i] - p[i] * Mat<Dim>::Identity();
+        Eigen::SelfAdjointEigenSolver<Mat<Dim>> eigen;
+        eigen.computeDirect(sigma);  // closed form for 2x2 and 3x3
+        Vec<Dim> r = Vec<Dim>::Zero();
+        for (int d = 0; d < Dim; ++d)
+          if (eigen.eigenvalues()[d] > 0) r[d] = -settings_.artificial_stress_factor * eigen.eigenvalues()[d] / (rho[i] * rho[i]);
+        tension_[i] = eigen.eigenvectors() * r.asDiagonal() * eigen.eigenvectors().transpose();
+      }
+    });
+  }
+  // 2. The pair sums. Gather over each particle's own row: every sum is in a fixed order, whatever
+  // the thread count.
+  const Real alpha = settings_.alpha, beta = settings_.beta, eps_h2 = settings_.epsilon * h * h;
+  const Real w_dx = artificial_stress ? std::visit([&](const auto& kernel) { return kernel.value(settings_.particle_spacing, h); },
+                                                   settings_.kernel)
+                                      : Real(1);
+  const Real exponent = settings_.artificial_stress_exponent;
+  parallel_for(n, [&](std::size_t i) {
     const Real pi_term = p[i] / (rho[i] * rho[i]);
+    Mat<Dim> s_i = Mat<Dim>::Zero();
+    if (strength) s_i = S[i] / (rho[i] * rho[i]);
     Vec<Dim> acc = Vec<Dim>::Zero();
     Real rate_rho = 0, rate_e = 0;
     for (std::size_t k = R.offsets[i]; k < R.offsets[i + 1]; ++k) {
@@ -115,10 +190,18 @@ void UpdatedLagrangianBody<Dim>::compute_rates() {
       const Real term = pi_term + p[j] / (rho[j] * rho[j]) + viscosity;
       const Real v_grad = v_ij.dot(grad);
       acc -= m[j] * term * grad;
+      if (strength) {
+        Mat<Dim> pair = s_i + S[j] / (rho[j] * rho[j]);
+        if (artificial_stress) pair += (tension_[i] + tension_[j]) * std::pow(R.kernel_value[k] / w_dx, exponent);
+        acc += m[j] * (pair * grad);
+      }
       rate_e += Real(0.5) * m[j] * term * v_grad;
       rate_rho += m[j] / rho[j] * v_grad;
     }
-    a[i] = acc;
+    if (strength) rate_e += stress_power_[i];
+    // A held particle keeps its density, energy and stress rates (so a clamp carries load and
+    // moment); only its motion is fixed.
+    a[i] = !is_held_.empty() && is_held_[i] ? Vec<Dim>::Zero() : acc;
     de[i] = rate_e;
     drho[i] = rho[i] * rate_rho;
   });
@@ -130,6 +213,18 @@ Real UpdatedLagrangianBody<Dim>::stable_time_step() const {
   const auto c = particles_.field(sound_speed_);
   const Real fastest = parallel_max(particles_.n_particles(), Real(0), [&](std::size_t i) { return c[i] + v[i].norm(); });
   return fastest > 0 ? settings_.cfl * settings_.smoothing_length / fastest : std::numeric_limits<Real>::infinity();
+}
+
+template <int Dim>
+Mat<Dim> UpdatedLagrangianBody<Dim>::yield(const Mat<Dim>& S) const {
+  // von Mises: the deviator is scaled back onto the yield surface, f = min(Y0 / sqrt(3/2 S:S), 1)
+  // (Wilkins 1964's radial return). In 2D (plane strain) S_zz = -(S_xx + S_yy) enters S:S.
+  const Real Y0 = settings_.yield_strength;
+  if (!(Y0 > 0)) return S;
+  Real J = S.squaredNorm();
+  if constexpr (Dim == 2) J += (S(0, 0) + S(1, 1)) * (S(0, 0) + S(1, 1));
+  const Real equivalent = std::sqrt(Real(1.5) * J);
+  return equivalent > Y0 ? Mat<Dim>(S * (Y0 / equivalent)) : S;
 }
 
 template <int Dim>
@@ -151,6 +246,13 @@ void UpdatedLagrangianBody<Dim>::advance(Real time, Real dt) {
   v_half.resize(n);
   rho_half.resize(n);
   e_half.resize(n);
+  const bool strength = settings_.shear_modulus > 0;
+  std::span<Mat<Dim>> S, dS;
+  if (strength) {
+    S = particles_.field(deviatoric_stress_);
+    dS = particles_.field(stress_rate_);
+    s_half_.resize(n);
+  }
   const auto& box = settings_.periodic;
   parallel_for(n, [&](std::size_t i) {
     v_half[i] = v[i] + half * a[i];
@@ -161,6 +263,10 @@ void UpdatedLagrangianBody<Dim>::advance(Real time, Real dt) {
     v[i] = v_half[i] + half * a[i];
     rho[i] = rho_half[i] + half * drho[i];
     e[i] = e_half[i] + half * de[i];
+    if (strength) {
+      s_half_[i] = yield(S[i] + half * dS[i]);
+      S[i] = yield(s_half_[i] + half * dS[i]);
+    }
   });
   check_state(time + dt);
   compute_rates();
@@ -169,6 +275,7 @@ void UpdatedLagrangianBody<Dim>::advance(Real time, Real dt) {
     v[i] = v_half[i] + half * a[i];
     rho[i] = rho_half[i] + half * drho[i];
     e[i] = e_half[i] + half * de[i];
+    if (strength) S[i] = yield(s_half_[i] + half * dS[i]);
   });
   check_state(time + dt);
   update_equation_of_state();

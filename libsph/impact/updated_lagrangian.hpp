@@ -12,10 +12,25 @@
 // c_ij and rho_ij the pair means. The pressure comes from the body's equation of state: an ideal gas
 // p = (gamma - 1) rho e, or Tillotson (libsph/impact/tillotson.hpp).
 //
-// Time stepping: leapfrog kick-drift-kick (Springel 2005, MNRAS 364:1105) on v, rho and e, the
-// rates re-evaluated once per step at the drifted positions with the predicted v, rho, e, and the
-// step dt = CFL min_i h / (c_i + |v_i|) with CFL = 0.2. Strength, damage, artificial stress,
-// variable smoothing lengths and self-gravity are not part of this body yet.
+// Strength (shear_modulus > 0; Gray, Monaghan & Swift 2001, Comput. Methods Appl. Mech. Engrg.
+// 190:6641): the stress is sigma = -p I + S, S the deviatoric stress, with Hooke's law in the Jaumann
+// rate
+//   dS/dt = 2 mu (eps' - 1/3 tr(eps') I) + S Omega^T + Omega S,
+// eps' and Omega the symmetric and antisymmetric parts of the velocity gradient
+//   grad v_i = sum_j m_j / rho_j (v_j - v_i) (x) (C_i grad_i W_ij),  C_i = (sum_j m_j / rho_j (x_j - x_i) (x) grad_i W_ij)^-1
+// (the correction makes it exact for linear velocity fields); the momentum equation takes
+// sigma_i / rho_i^2 + sigma_j / rho_j^2 in place of the pressures and the energy equation adds
+// S_i : eps'_i / rho_i. In 2D the deviator is taken with 1/3 (plane strain), as Gray et al. do.
+// Artificial stress (optional): each particle's tension R_i = U diag(-0.2 max(sigma_A, 0) / rho^2) U^T
+// from the principal stresses sigma_A (U its eigenvectors), added to the pair as
+// (R_i + R_j) (W(r_ij) / W(dx))^4 against the tensile instability. The sound speed is then
+// c^2 = c_eos^2 + 4 mu / (3 rho). Plasticity (yield_strength Y0 > 0): von Mises, the deviator scaled
+// back to sqrt(3/2 S:S) <= Y0 after every update (Wilkins 1964, Methods Comput. Phys. 3:211).
+//
+// Time stepping: leapfrog kick-drift-kick (Springel 2005, MNRAS 364:1105) on v, rho, e and S, the
+// rates re-evaluated once per step at the drifted positions with the predicted state, and the
+// step dt = CFL min_i h / (c_i + |v_i|) with CFL = 0.2. Damage, variable smoothing
+// lengths and self-gravity are not part of this body yet.
 //
 // Numerical failure (a density or internal energy that is not positive where the equation of state
 // needs it, a non-finite velocity, a stable step fallen below 1e-6 of the initial one) stops the run
@@ -38,7 +53,12 @@ struct IdealGas {
   double gamma = 1.4;
 };
 
-using ImpactEquationOfState = std::variant<IdealGas, TillotsonParameters>;
+/// p = c0^2 (rho - rho0), c = c0: a weakly compressible solid or liquid (Gray, Monaghan & Swift 2001).
+struct LinearPressure {
+  double reference_density = 1, sound_speed = 1;
+};
+
+using ImpactEquationOfState = std::variant<IdealGas, LinearPressure, TillotsonParameters>;
 
 template <int Dim>
 class UpdatedLagrangianBody {
@@ -51,6 +71,12 @@ class UpdatedLagrangianBody {
     Real epsilon = Real(0.1);                      ///< the epsilon h^2 in phi_ij's denominator
     Real cfl = Real(0.2);
     PeriodicBox<Dim> periodic;                     ///< periodic axes (none by default)
+    Real shear_modulus = 0;                        ///< mu; 0: no strength (a gas or liquid)
+    bool artificial_stress = false;                ///< Gray, Monaghan & Swift 2001 (needs strength)
+    Real artificial_stress_factor = Real(0.2);     ///< epsilon of R = -epsilon sigma_A / rho^2
+    Real artificial_stress_exponent = 4;           ///< n of (W(r) / W(dx))^n
+    Real particle_spacing = 0;                     ///< dx of W(dx) (artificial stress)
+    Real yield_strength = 0;                       ///< von Mises Y0; 0: elastic
   };
 
   /// Registers mass, density, velocity, energy, pressure, sound_speed, acceleration, density_rate
@@ -63,6 +89,9 @@ class UpdatedLagrangianBody {
   Real stable_time_step() const;
   /// One kick-drift-kick step from `time` by dt.
   void advance(Real time, Real dt);
+  /// Holds these particles at rest where they are (a clamp): they keep their state and still act on
+  /// their neighbours.
+  void hold(std::vector<Index> particles);
 
   struct Energies {
     double kinetic = 0, internal = 0;
@@ -75,6 +104,8 @@ class UpdatedLagrangianBody {
   FieldHandle<Vec<Dim>> velocity_field() const { return velocity_; }
   FieldHandle<Real> energy_field() const { return energy_; }
   FieldHandle<Real> pressure_field() const { return pressure_; }
+  /// The deviatoric stress S (registered with strength only).
+  FieldHandle<Mat<Dim>> deviatoric_stress_field() const { return deviatoric_stress_; }
   ParticleSet<Dim>& particles() { return particles_; }
   const Settings& settings() const { return settings_; }
   std::size_t steps() const { return steps_; }
@@ -88,16 +119,22 @@ class UpdatedLagrangianBody {
   void update_equation_of_state();
   void compute_rates();
   void check_state(Real time) const;
+  Mat<Dim> yield(const Mat<Dim>& S) const;
 
   ParticleSet<Dim>& particles_;
   Settings settings_;
   InnerRelation<Dim> relation_;
   FieldHandle<Real> mass_, density_, energy_, pressure_, sound_speed_, density_rate_, energy_rate_;
   FieldHandle<Vec<Dim>> velocity_, acceleration_;
+  FieldHandle<Mat<Dim>> deviatoric_stress_, stress_rate_;
   std::size_t steps_ = 0;
   Real initial_time_step_ = 0;  // a step below 1e-6 of it stops the run
+  std::vector<Index> held_;
+  std::vector<char> is_held_;
   std::vector<Vec<Dim>> v_half_;  // scratch of a step: the half-step state
   std::vector<Real> rho_half_, e_half_;
+  std::vector<Mat<Dim>> s_half_, tension_;  // half-step deviatoric stress; artificial stress R_i
+  std::vector<Real> stress_power_;            // S_i : eps'_i / rho_i
 };
 
 extern template class UpdatedLagrangianBody<2>;

@@ -1,7 +1,8 @@
 #pragma once
 // Scenes of the impact family (libsph/impact, docs/impact.md):
 //   sod-shock-tube (2D slab, periodic across): Sod's shock tube against the exact Riemann solution;
-//   L1 errors of density, velocity and pressure.
+//   L1 errors of density, velocity and pressure;
+//   rubber-rings: Gray, Monaghan & Swift's colliding elastic rings, with or without artificial stress.
 
 #include <memory>
 
@@ -24,5 +25,20 @@ struct SodShockTubeParameters {
 };
 
 std::unique_ptr<Scene> make_sod_shock_tube_scene(SodShockTubeParameters parameters = {});
+
+struct RubberRingsParameters {
+  long resolution = 10;  ///< particles across the wall
+  double inner_radius = 0.03, outer_radius = 0.04, gap = 0.002;
+  double density = 1, youngs_modulus = 1e7, poisson_ratio = 0.3975;
+  double speed = 0.059;  ///< each ring's speed, in units of c0 = sqrt(K / rho0)
+  bool artificial_stress = true;
+  double artificial_stress_factor = 0.2;
+  double smoothing_length_ratio = 1.5;
+  double alpha = 1, beta = 1;
+  double end_time = 4e-4;
+  double output_interval = 0;
+};
+
+std::unique_ptr<Scene> make_rubber_rings_scene(RubberRingsParameters parameters = {});
 
 }  // namespace cardiosph
