@@ -55,6 +55,8 @@ UpdatedLagrangianBody<Dim>::UpdatedLagrangianBody(ParticleSet<Dim>& particles, S
   if (!(settings_.yield_strength >= 0)) throw std::invalid_argument(body + ": yield strength must be >= 0 (0: elastic)");
   if (settings_.yield_strength > 0 && !(settings_.shear_modulus > 0))
     throw std::invalid_argument(body + ": a yield strength needs strength (shear modulus > 0)");
+  if (!(settings_.hardening_modulus >= 0)) throw std::invalid_argument(body + ": hardening modulus must be >= 0");
+  if (!(settings_.xsph >= 0 && settings_.xsph <= 1)) throw std::invalid_argument(body + ": XSPH factor must be in [0, 1]");
   if (!(settings_.artificial_stress_factor >= 0) || !(settings_.artificial_stress_exponent > 0))
     throw std::invalid_argument(body + ": artificial stress factor must be >= 0 and its exponent > 0");
   if (settings_.artificial_stress && !(settings_.shear_modulus > 0 && settings_.particle_spacing > 0))
@@ -72,6 +74,7 @@ UpdatedLagrangianBody<Dim>::UpdatedLagrangianBody(ParticleSet<Dim>& particles, S
     deviatoric_stress_ = particles.template register_field<Mat<Dim>>("deviatoric_stress", Mat<Dim>::Zero());
     stress_rate_ = particles.template register_field<Mat<Dim>>("deviatoric_stress_rate", Mat<Dim>::Zero(), false);
   }
+  if (settings_.yield_strength > 0) plastic_strain_ = particles.template register_field<Real>("plastic_strain", 0);
 }
 
 template <int Dim>
@@ -171,11 +174,13 @@ void UpdatedLagrangianBody<Dim>::compute_rates() {
                                                    settings_.kernel)
                                       : Real(1);
   const Real exponent = settings_.artificial_stress_exponent;
+  const bool xsph = settings_.xsph > 0;
+  if (xsph) xsph_correction_.resize(n);
   parallel_for(n, [&](std::size_t i) {
     const Real pi_term = p[i] / (rho[i] * rho[i]);
     Mat<Dim> s_i = Mat<Dim>::Zero();
     if (strength) s_i = S[i] / (rho[i] * rho[i]);
-    Vec<Dim> acc = Vec<Dim>::Zero();
+    Vec<Dim> acc = Vec<Dim>::Zero(), smoothed = Vec<Dim>::Zero();
     Real rate_rho = 0, rate_e = 0;
     for (std::size_t k = R.offsets[i]; k < R.offsets[i + 1]; ++k) {
       const std::size_t j = R.neighbour[k];
@@ -197,7 +202,9 @@ void UpdatedLagrangianBody<Dim>::compute_rates() {
       }
       rate_e += Real(0.5) * m[j] * term * v_grad;
       rate_rho += m[j] / rho[j] * v_grad;
+      if (xsph) smoothed -= m[j] / (Real(0.5) * (rho[i] + rho[j])) * R.kernel_value[k] * v_ij;
     }
+    if (xsph) xsph_correction_[i] = settings_.xsph * smoothed;
     if (strength) rate_e += stress_power_[i];
     // A held particle keeps its density, energy and stress rates (so a clamp carries load and
     // moment); only its motion is fixed.
@@ -216,15 +223,21 @@ Real UpdatedLagrangianBody<Dim>::stable_time_step() const {
 }
 
 template <int Dim>
-Mat<Dim> UpdatedLagrangianBody<Dim>::yield(const Mat<Dim>& S) const {
-  // von Mises: the deviator is scaled back onto the yield surface, f = min(Y0 / sqrt(3/2 S:S), 1)
-  // (Wilkins 1964's radial return). In 2D (plane strain) S_zz = -(S_xx + S_yy) enters S:S.
+Mat<Dim> UpdatedLagrangianBody<Dim>::yield(const Mat<Dim>& S, Real plastic_strain, Real& plastic_increment) const {
+  // von Mises with linear isotropic hardening, Y = Y0 + H eps_p: a trial deviator beyond the yield
+  // surface is scaled back radially (Wilkins 1964), and the equivalent plastic strain grows by
+  // (sigma_eq - Y) / (3 mu + H), which puts the scaled deviator on the hardened surface
+  // (Simo & Hughes 1998, Computational Inelasticity, box 3.2). In 2D (plane strain)
+  // S_zz = -(S_xx + S_yy) enters S:S.
+  plastic_increment = 0;
   const Real Y0 = settings_.yield_strength;
   if (!(Y0 > 0)) return S;
   Real J = S.squaredNorm();
   if constexpr (Dim == 2) J += (S(0, 0) + S(1, 1)) * (S(0, 0) + S(1, 1));
-  const Real equivalent = std::sqrt(Real(1.5) * J);
-  return equivalent > Y0 ? Mat<Dim>(S * (Y0 / equivalent)) : S;
+  const Real equivalent = std::sqrt(Real(1.5) * J), Y = Y0 + settings_.hardening_modulus * plastic_strain;
+  if (!(equivalent > Y)) return S;
+  plastic_increment = (equivalent - Y) / (3 * settings_.shear_modulus + settings_.hardening_modulus);
+  return S * ((Y + settings_.hardening_modulus * plastic_increment) / equivalent);
 }
 
 template <int Dim>
@@ -253,19 +266,29 @@ void UpdatedLagrangianBody<Dim>::advance(Real time, Real dt) {
     dS = particles_.field(stress_rate_);
     s_half_.resize(n);
   }
+  const bool plastic = settings_.yield_strength > 0;
+  std::span<Real> eps_p;
+  if (plastic) {
+    eps_p = particles_.field(plastic_strain_);
+    eps_p_half_.resize(n);
+  }
+  const bool xsph = settings_.xsph > 0;
   const auto& box = settings_.periodic;
   parallel_for(n, [&](std::size_t i) {
     v_half[i] = v[i] + half * a[i];
     rho_half[i] = rho[i] + half * drho[i];
     e_half[i] = e[i] + half * de[i];
-    x[i] += dt * v_half[i];
+    x[i] += dt * (xsph ? Vec<Dim>(v_half[i] + xsph_correction_[i]) : v_half[i]);
     if (box.any()) x[i] = box.wrap(x[i]);
     v[i] = v_half[i] + half * a[i];
     rho[i] = rho_half[i] + half * drho[i];
     e[i] = e_half[i] + half * de[i];
     if (strength) {
-      s_half_[i] = yield(S[i] + half * dS[i]);
-      S[i] = yield(s_half_[i] + half * dS[i]);
+      // The plastic strain accumulates in the two kicks; the prediction between them only borrows it.
+      Real yielded = 0;
+      s_half_[i] = yield(S[i] + half * dS[i], plastic ? eps_p[i] : Real(0), yielded);
+      if (plastic) eps_p[i] = eps_p_half_[i] = eps_p[i] + yielded;
+      S[i] = yield(s_half_[i] + half * dS[i], plastic ? eps_p[i] : Real(0), yielded);
     }
   });
   check_state(time + dt);
@@ -275,7 +298,11 @@ void UpdatedLagrangianBody<Dim>::advance(Real time, Real dt) {
     v[i] = v_half[i] + half * a[i];
     rho[i] = rho_half[i] + half * drho[i];
     e[i] = e_half[i] + half * de[i];
-    if (strength) S[i] = yield(s_half_[i] + half * dS[i]);
+    if (strength) {
+      Real yielded = 0;
+      S[i] = yield(s_half_[i] + half * dS[i], plastic ? eps_p_half_[i] : Real(0), yielded);
+      if (plastic) eps_p[i] = eps_p_half_[i] + yielded;
+    }
   });
   check_state(time + dt);
   update_equation_of_state();

@@ -25,7 +25,10 @@
 // from the principal stresses sigma_A (U its eigenvectors), added to the pair as
 // (R_i + R_j) (W(r_ij) / W(dx))^4 against the tensile instability. The sound speed is then
 // c^2 = c_eos^2 + 4 mu / (3 rho). Plasticity (yield_strength Y0 > 0): von Mises, the deviator scaled
-// back to sqrt(3/2 S:S) <= Y0 after every update (Wilkins 1964, Methods Comput. Phys. 3:211).
+// back to sqrt(3/2 S:S) <= Y0 + H eps_p after every update (Wilkins 1964, Methods Comput. Phys. 3:211),
+// eps_p the equivalent plastic strain, H the linear hardening modulus.
+// XSPH (xsph = epsilon > 0; Monaghan 1989, J. Comput. Phys. 82:1): particles drift with
+// v_i + epsilon sum_j m_j / rho_ij (v_j - v_i) W_ij, the velocity smoothed over the neighbours.
 //
 // Time stepping: leapfrog kick-drift-kick (Springel 2005, MNRAS 364:1105) on v, rho, e and S, the
 // rates re-evaluated once per step at the drifted positions with the predicted state, and the
@@ -77,6 +80,8 @@ class UpdatedLagrangianBody {
     Real artificial_stress_exponent = 4;           ///< n of (W(r) / W(dx))^n
     Real particle_spacing = 0;                     ///< dx of W(dx) (artificial stress)
     Real yield_strength = 0;                       ///< von Mises Y0; 0: elastic
+    Real hardening_modulus = 0;                    ///< H of Y = Y0 + H eps_p (linear isotropic hardening)
+    Real xsph = 0;                                 ///< XSPH factor (Monaghan 1989; 0.5 in the impact codes, 0: off)
   };
 
   /// Registers mass, density, velocity, energy, pressure, sound_speed, acceleration, density_rate
@@ -106,6 +111,8 @@ class UpdatedLagrangianBody {
   FieldHandle<Real> pressure_field() const { return pressure_; }
   /// The deviatoric stress S (registered with strength only).
   FieldHandle<Mat<Dim>> deviatoric_stress_field() const { return deviatoric_stress_; }
+  /// The equivalent plastic strain (registered with a yield strength only).
+  FieldHandle<Real> plastic_strain_field() const { return plastic_strain_; }
   ParticleSet<Dim>& particles() { return particles_; }
   const Settings& settings() const { return settings_; }
   std::size_t steps() const { return steps_; }
@@ -119,7 +126,7 @@ class UpdatedLagrangianBody {
   void update_equation_of_state();
   void compute_rates();
   void check_state(Real time) const;
-  Mat<Dim> yield(const Mat<Dim>& S) const;
+  Mat<Dim> yield(const Mat<Dim>& S, Real plastic_strain, Real& plastic_increment) const;
 
   ParticleSet<Dim>& particles_;
   Settings settings_;
@@ -127,6 +134,7 @@ class UpdatedLagrangianBody {
   FieldHandle<Real> mass_, density_, energy_, pressure_, sound_speed_, density_rate_, energy_rate_;
   FieldHandle<Vec<Dim>> velocity_, acceleration_;
   FieldHandle<Mat<Dim>> deviatoric_stress_, stress_rate_;
+  FieldHandle<Real> plastic_strain_;
   std::size_t steps_ = 0;
   Real initial_time_step_ = 0;  // a step below 1e-6 of it stops the run
   std::vector<Index> held_;
@@ -135,6 +143,8 @@ class UpdatedLagrangianBody {
   std::vector<Real> rho_half_, e_half_;
   std::vector<Mat<Dim>> s_half_, tension_;  // half-step deviatoric stress; artificial stress R_i
   std::vector<Real> stress_power_;            // S_i : eps'_i / rho_i
+  std::vector<Real> eps_p_half_;              // plastic strain after the first kick
+  std::vector<Vec<Dim>> xsph_correction_;     // the XSPH term of the drift
 };
 
 extern template class UpdatedLagrangianBody<2>;
