@@ -1,0 +1,88 @@
+// The Barnes-Hut gravity's cost and accuracy against the particle count: for n uniform random
+// particles in a unit ball (h = 1.2 mean spacing), the tree's build + force time (theta 0.5 with
+// quadrupole unless told), the direct summation's time and the tree's relative rms acceleration error against
+// direct summation, sampled on 1000 target particles. A standalone program (no Google Benchmark):
+//   bench_gravity_table [largest n, default 1000000] [--full-direct] [--leaf-size k] [--theta t]
+// With --full-direct the whole direct sum is timed up to n = 1e5; otherwise (and always beyond
+// 1e5) the direct time is the 1000-target time scaled by n / 1000, i.e. extrapolated as n^2.
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <random>
+#include <vector>
+
+#include "libsph/core/parallel.hpp"
+#include "libsph/impact/gravity.hpp"
+
+namespace {
+
+using sph::Real;
+using Vec3 = sph::Vec<3>;
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::size_t largest = 1000000;
+  bool full_direct = false;
+  sph::GravitySettings settings;
+  for (int k = 1; k < argc; ++k) {
+    if (std::strcmp(argv[k], "--full-direct") == 0) full_direct = true;
+    else if (std::strcmp(argv[k], "--leaf-size") == 0 && k + 1 < argc) settings.leaf_size = std::strtoull(argv[++k], nullptr, 10);
+    else if (std::strcmp(argv[k], "--theta") == 0 && k + 1 < argc) settings.theta = static_cast<Real>(std::strtod(argv[++k], nullptr));
+    else largest = std::strtoull(argv[k], nullptr, 10);
+  }
+  std::printf("threads %zu; theta %g, quadrupole, leaf size %zu\n", sph::active_thread_count(), double(settings.theta), settings.leaf_size);
+  std::printf("%9s %10s %10s %12s %10s %12s %10s %10s %14s\n", "n", "build+BH s", "2nd call s", "us/particle", "us/p/log2n",
+              "direct s", "(how)", "rms error", "multipoles,pairs");
+  for (std::size_t n = 10000; n <= largest; n *= 10) {
+    std::mt19937_64 engine(42);
+    auto uniform = [&] { return static_cast<Real>(static_cast<double>(engine() >> 11) * 0x1.0p-53); };
+    std::vector<Vec3> x;
+    x.reserve(n);
+    while (x.size() < n) {
+      const Vec3 p(2 * uniform() - 1, 2 * uniform() - 1, 2 * uniform() - 1);
+      if (p.squaredNorm() <= 1) x.push_back(p);
+    }
+    const std::vector<Real> m(n, Real(1.0 / n)), h(n, Real(1.2 * std::cbrt(4.0 / 3.0 * sph::pi / n)));
+    std::vector<Vec3> a(n);
+    sph::BarnesHutGravity gravity(settings);
+    auto start = std::chrono::steady_clock::now();
+    gravity.compute(x, m, h, a, {});
+    const double first = seconds_since(start);
+    start = std::chrono::steady_clock::now();
+    gravity.compute(x, m, h, a, {});
+    const double second = seconds_since(start);
+    const auto s = gravity.statistics();
+
+    std::vector<std::size_t> targets(1000);
+    for (std::size_t t = 0; t < targets.size(); ++t) targets[t] = t * (n / targets.size());
+    std::vector<Vec3> a_direct(targets.size());
+    start = std::chrono::steady_clock::now();
+    sph::direct_gravity(x, m, h, 1, targets, a_direct, {});
+    double direct = seconds_since(start) * double(n) / double(targets.size());
+    const char* how = "n^2 extrap";
+    if (full_direct && n <= 100000) {
+      std::vector<Vec3> all(n);
+      start = std::chrono::steady_clock::now();
+      sph::direct_gravity(x, m, h, 1, all, {});
+      direct = seconds_since(start);
+      how = "measured";
+    }
+    double num = 0, den = 0;
+    for (std::size_t t = 0; t < targets.size(); ++t) {
+      num += (a[targets[t]] - a_direct[t]).squaredNorm();
+      den += a_direct[t].squaredNorm();
+    }
+    const double per_particle = 1e6 * second / double(n);
+    std::printf("%9zu %10.3f %10.3f %12.3f %10.4f %12.2f %10s %10.3e %7.0f,%5.0f\n", n, first, second, per_particle,
+                per_particle / std::log2(double(n)), direct, how, std::sqrt(num / den), s.multipoles_per_particle, s.pairs_per_particle);
+    std::fflush(stdout);
+  }
+}
