@@ -2,7 +2,7 @@
 // particles in a unit ball (h = 1.2 mean spacing), the tree's build + force time (theta 0.5 with
 // quadrupole unless told), the direct summation's time and the tree's relative rms acceleration error against
 // direct summation, sampled on 1000 target particles. A standalone program (no Google Benchmark):
-//   bench_gravity_table [largest n, default 1000000] [--full-direct] [--leaf-size k] [--theta t]
+//   bench_impact [largest n, default 1000000] [--full-direct] [--leaf-size k] [--theta t]
 // With --full-direct the whole direct sum is timed up to n = 1e5; otherwise (and always beyond
 // 1e5) the direct time is the 1000-target time scaled by n / 1000, i.e. extrapolated as n^2.
 
