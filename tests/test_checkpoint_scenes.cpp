@@ -269,7 +269,9 @@ const std::vector<ResumeCase>& resume_cases() {
       ResumeCase{"cylinder-flow", {"resolution=10", "end_time=3", "output_interval=1", "sort_interval=10"}, "1.3"},
       ResumeCase{"sod-shock-tube", {"resolution=100", "output_interval=0.05"}, "0.08"},
       // During the contact: the deviatoric stress is loaded.
-      ResumeCase{"rubber-rings", {"resolution=4", "end_time=8e-5", "output_interval=4e-5"}, "5e-5"}};
+      ResumeCase{"rubber-rings", {"resolution=4", "end_time=8e-5", "output_interval=4e-5"}, "5e-5"},
+      // While the bar yields: the plastic strain is loaded.
+      ResumeCase{"taylor-bar", {"resolution=2", "end_time=2e-5", "output_interval=1e-5"}, "1.2e-5"}};
   return cases;
 }
 

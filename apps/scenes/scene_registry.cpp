@@ -77,6 +77,9 @@ const std::vector<SceneEntry>& scene_registry() {
       {"rubber-rings", "two elastic rings colliding (Gray, Monaghan & Swift 2001), updated-Lagrangian SPH with strength: "
        "with artificial stress they bounce whole, without it they tear",
        [] { return make_rubber_rings_scene(); }},
+      {"taylor-bar", "copper bar onto a rigid frictionless wall at 227 m/s (von Mises with linear hardening): final length "
+                     "and mushroom radius against the reference",
+       [] { return make_taylor_bar_scene(); }},
   };
   return scenes;
 }

@@ -140,7 +140,6 @@ void UpdatedLagrangianBody<Dim>::compute_rates() {
     S = particles_.field(deviatoric_stress_);
     dS = particles_.field(stress_rate_);
     tension_.resize(artificial_stress ? n : 0);
-    stress_power_.resize(n);
     parallel_for(n, [&](std::size_t i) {
       Mat<Dim> B = Mat<Dim>::Zero(), G = Mat<Dim>::Zero();
       for (std::size_t k = R.offsets[i]; k < R.offsets[i + 1]; ++k) {
@@ -155,7 +154,6 @@ void UpdatedLagrangianBody<Dim>::compute_rates() {
       const Mat<Dim> strain_rate = Real(0.5) * (grad_v + grad_v.transpose());
       const Mat<Dim> spin = Real(0.5) * (grad_v - grad_v.transpose());
       dS[i] = 2 * mu * (strain_rate - I3 * strain_rate.trace() * Mat<Dim>::Identity()) + S[i] * spin.transpose() + spin * S[i];
-      stress_power_[i] = (S[i].cwiseProduct(strain_rate)).sum() / rho[i];
       if (artificial_stress) {
         const Mat<Dim> sigma = S[i] - p[i] * Mat<Dim>::Identity();
         Eigen::SelfAdjointEigenSolver<Mat<Dim>> eigen;
@@ -198,14 +196,16 @@ void UpdatedLagrangianBody<Dim>::compute_rates() {
       if (strength) {
         Mat<Dim> pair = s_i + S[j] / (rho[j] * rho[j]);
         if (artificial_stress) pair += (tension_[i] + tension_[j]) * std::pow(R.kernel_value[k] / w_dx, exponent);
-        acc += m[j] * (pair * grad);
+        const Vec<Dim> traction = pair * grad;
+        acc += m[j] * traction;
+        rate_e -= Real(0.5) * m[j] * v_ij.dot(traction);  // the work of the pair's force, as for the pressure
       }
       rate_e += Real(0.5) * m[j] * term * v_grad;
       rate_rho += m[j] / rho[j] * v_grad;
       if (xsph) smoothed -= m[j] / (Real(0.5) * (rho[i] + rho[j])) * R.kernel_value[k] * v_ij;
     }
     if (xsph) xsph_correction_[i] = settings_.xsph * smoothed;
-    if (strength) rate_e += stress_power_[i];
+
     // A held particle keeps its density, energy and stress rates (so a clamp carries load and
     // moment); only its motion is fixed.
     a[i] = !is_held_.empty() && is_held_[i] ? Vec<Dim>::Zero() : acc;
