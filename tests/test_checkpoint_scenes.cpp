@@ -271,7 +271,11 @@ const std::vector<ResumeCase>& resume_cases() {
       // During the contact: the deviatoric stress is loaded.
       ResumeCase{"rubber-rings", {"resolution=4", "end_time=8e-5", "output_interval=4e-5"}, "5e-5"},
       // While the bar yields: the plastic strain is loaded.
-      ResumeCase{"taylor-bar", {"resolution=2", "end_time=2e-5", "output_interval=1e-5"}, "1.2e-5"}};
+      ResumeCase{"taylor-bar", {"resolution=2", "end_time=2e-5", "output_interval=1e-5"}, "1.2e-5"},
+      // The energy extremes are state; gravity and the variable h are rebuilt from the fields.
+      ResumeCase{"evrard-collapse", {"particles=600", "end_time=0.6", "output_interval=0.3"}, "0.4"},
+      // While the damage grows: the flaws are drawn again from the seed.
+      ResumeCase{"impact", {"resolution=5", "end_time=12e-6", "output_interval=6e-6"}, "8e-6"}};
   return cases;
 }
 

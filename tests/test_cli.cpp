@@ -93,6 +93,13 @@ TEST_F(Cli, ImpossibleShockTubesAreRejected) {
   expect_rejected({"sod-shock-tube", "--set", "tube_half_length=0.3"}, "parameter 'tube_half_length' = 0.300000 is too short");
   expect_rejected({"sod-shock-tube", "--set", "rows=4"}, "parameter 'rows' = 4 is narrower than the kernel support");
 }
+TEST_F(Cli, ImpossibleImpactParametersAreRejected) {
+  expect_rejected({"evrard-collapse", "--set", "theta=0"}, "parameter 'theta' (from --set) = 0: must be in (0, 1]");
+  expect_rejected({"evrard-collapse", "--set", "theta=1.5"}, "parameter 'theta' (from --set) = 1.5: must be in (0, 1]");
+  expect_rejected({"impact", "--set", "weibull_k=0"}, "parameter 'weibull_k' (from --set) = 0: must be > 0");
+  expect_rejected({"taylor-bar", "--set", "poisson_ratio=0.5"}, "parameter 'poisson_ratio' (from --set) = 0.5");
+  expect_rejected({"rubber-rings", "--set", "inner_radius=0.05"}, "parameter 'inner_radius' = 0.050000 must be below 'outer_radius'");
+}
 TEST_F(Cli, NonIntegerResolutionIsRejected) { expect_rejected({"diffusion", "--resolution", "12.5"}, "not an integer"); }
 TEST_F(Cli, ZeroEndTimeIsRejected) { expect_rejected({"diffusion", "--end-time", "0"}, "'end_time'"); }
 TEST_F(Cli, NegativeEndTimeIsRejected) { expect_rejected({"diffusion", "--end-time", "-1"}, "'end_time'"); }

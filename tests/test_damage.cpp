@@ -9,11 +9,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <limits>
 #include <numeric>
 #include <random>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -21,7 +19,6 @@
 #include "libsph/core/parallel.hpp"
 #include "libsph/impact/damage.hpp"
 #include "tests/precision.hpp"
-#include "tests/temporary_folder.hpp"
 
 namespace {
 
@@ -451,13 +448,7 @@ TEST(GradyKipp, TwoSeparatedClustersAreTwoFragments) {
   EXPECT_EQ(g.masses(), (std::vector<Real>{60, 7, 2, 1}));
   EXPECT_EQ(g.label, (std::vector<Index>{0, 1, 2, 1, 4, 1, 4}));
 
-  test::TemporaryFolder folder("damage");
-  const auto path = (folder / "fragments.csv").string();
-  sph::write_cumulative_mass_distribution(g, path);
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  EXPECT_EQ(text.str(), "mass,cumulative_number\n60,1\n7,2\n2,3\n1,4\n");
+  EXPECT_EQ(sph::cumulative_mass_distribution_csv(g), "mass,cumulative_number\n60,1\n7,2\n2,3\n1,4\n");
 }
 
 TEST(GradyKipp, FullyDamagedBodyGivesOneFragmentPerParticle) {

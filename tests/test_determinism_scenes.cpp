@@ -90,7 +90,9 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"hydrostatic-plate", {"end_time=0.02"}},
                       Case{"sod-shock-tube", {"resolution=100", "end_time=0.1"}},
                       Case{"rubber-rings", {"resolution=4", "end_time=6e-5"}},
-                      Case{"taylor-bar", {"resolution=2", "end_time=1.5e-5"}}),
+                      Case{"taylor-bar", {"resolution=2", "end_time=1.5e-5"}},
+                      Case{"evrard-collapse", {"particles=600", "end_time=0.3"}},
+                      Case{"impact", {"resolution=5", "end_time=8e-6"}}),
     [](const ::testing::TestParamInfo<Case>& param) {
       std::string name = param.param.scene;
       std::replace(name.begin(), name.end(), '-', '_');

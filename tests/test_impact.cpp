@@ -279,3 +279,60 @@ TEST(UpdatedLagrangianStrength, ImpossibleStrengthSettingsAreRefused) {
 }
 
 }  // namespace
+
+// A hot gas ball expanding into vacuum (variable h, no boundary): it completes, the energy is
+// conserved, and a negative initial energy of the ideal gas is refused before the first step.
+namespace {
+
+TEST(UpdatedLagrangianBody, GasBallExpandsIntoVacuum) {
+  using Vec3 = sph::Vec<3>;
+  auto gas = geometry::lattice_where<3>("ball", Vec3(-1, -1, -1), Vec3(1, 1, 1), sph::Real(0.2),
+                                        [](const Vec3& x) { return x.squaredNorm() < 1; });
+  sph::UpdatedLagrangianBody<3>::Settings s;
+  s.smoothing_length = sph::Real(0.24);
+  s.smoothing_length_factor = sph::Real(1.2);
+  sph::UpdatedLagrangianBody<3> body(gas, s);
+  auto rho = gas.field(body.density_field());
+  auto e = gas.field(body.energy_field());
+  for (std::size_t i = 0; i < gas.n_particles(); ++i) {
+    rho[i] = 1;
+    e[i] = 1;
+  }
+  body.initialise();
+  const double initial = body.energies().total();
+  sph::Real t = 0;
+  while (t < 1) {
+    const sph::Real dt = body.stable_time_step();
+    body.advance(t, dt);
+    t += dt;
+  }
+  double radius = 0;
+  for (const auto& x : gas.position) radius = std::max(radius, double(x.norm()));
+  const double change = (body.energies().total() - initial) / initial;
+  std::printf("[ measured ] gas ball into vacuum: radius 0.9 -> %.2f by t = 1 in %zu steps, energy change %.1e, kinetic share %.2f\n",
+              radius, body.steps(), change, body.energies().kinetic / initial);
+  EXPECT_GT(radius, 1.5);              // it expanded
+  EXPECT_LT(std::abs(change), 0.01);   // bound: the grad-h terms left out (variable h)
+}
+
+TEST(UpdatedLagrangianBody, NegativeIdealGasEnergyIsRefusedAtOnce) {
+  auto gas = geometry::lattice_box<2>("gas", sph::Vec<2>(0, 0), sph::Vec<2>(1, 1), sph::Real(0.1));
+  sph::UpdatedLagrangianBody<2>::Settings s;
+  s.smoothing_length = sph::Real(0.12);
+  sph::UpdatedLagrangianBody<2> body(gas, s);
+  auto rho = gas.field(body.density_field());
+  auto e = gas.field(body.energy_field());
+  for (std::size_t i = 0; i < gas.n_particles(); ++i) {
+    rho[i] = 1;
+    e[i] = i == 5 ? -1 : 1;  // a bad parameter for one particle
+  }
+  try {
+    body.initialise();
+    FAIL() << "a negative energy was accepted";
+  } catch (const sph::NumericalFailure& failure) {
+    EXPECT_NE(std::string(failure.what()).find("particle 5"), std::string::npos) << failure.what();
+    EXPECT_NE(std::string(failure.what()).find("negative"), std::string::npos) << failure.what();
+  }
+}
+
+}  // namespace

@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -390,79 +389,6 @@ TEST(KdTree, AdaptingHApproachesTheTargetNeighbourCount) {
   // Bound: within 10 % of the target in the interior.
   EXPECT_NEAR(mean, target, 0.1 * target);
   EXPECT_THROW(sph::adapt_smoothing_lengths<3>(relation, 0, h), std::invalid_argument);
-}
-
-// ---- Timings (printed, not asserted) ----
-
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
-
-template <class F>
-double best_of(int repeats, F&& f) {
-  double best = 1e300;
-  for (int r = 0; r < repeats; ++r) {
-    const auto start = Clock::now();
-    f();
-    best = std::min(best, seconds_since(start));
-  }
-  return best;
-}
-
-// Largest n of the timing runs: 1e5 in the test suite; CARDIOSPH_KD_TREE_TIMING_MAX=1e6 adds the
-// million-particle runs (about a minute on one core and 7 GB for the cell list at h_max on the sphere).
-std::size_t timing_max() {
-  if (const char* s = std::getenv("CARDIOSPH_KD_TREE_TIMING_MAX")) return static_cast<std::size_t>(std::atof(s));
-  return 100000;
-}
-
-TEST(KdTreeTiming, ConstantHAgainstCellList3D) {
-  sph::ThreadLimit limit(1);  // one thread: steadier timings on a shared machine
-  const sph::AnyKernel<3> kernel = sph::CubicSplineM4<3>{};
-  std::printf("[ measured ] constant h, 3D jittered lattice, h = 1.2 dx, M4, warm rebuilds, %zu thread(s):\n",
-              sph::active_thread_count());
-  std::printf("[ measured ] %9s %10s %12s %12s %12s %8s %16s\n", "n", "pairs", "tree build s", "k-d total s",
-              "cell list s", "ratio", "build/(n log2 n) ns");
-  for (int side : {22, 46, 100}) {
-    const std::size_t n = std::size_t(side) * side * side;
-    if (n > timing_max() * 1.01) continue;
-    const Real dx = 1;
-    const auto x = jittered_lattice<3>(side, dx, Real(0.1), 9000 + side);
-    const std::vector<Real> h(n, Real(1.2) * dx);
-    sph::InnerRelation<3> relation;
-    sph::KdTree<3> tree;
-    const int repeats = n > 200000 ? 2 : 3;
-    const double kd = best_of(repeats, [&] { sph::rebuild_inner_relation_variable_h<3>(relation, x, h, kernel, tree); });
-    const double build = best_of(repeats, [&] { tree.build(x, h); });
-    const std::size_t pairs = relation.n_pairs();
-    const double cells = best_of(repeats, [&] { sph::rebuild_inner_relation<3>(relation, x, kernel, Real(1.2) * dx); });
-    std::printf("[ measured ] %9zu %10zu %12.4f %12.4f %12.4f %8.2f %16.2f\n", n, pairs, build, kd, cells, kd / cells,
-                1e9 * build / (n * std::log2(double(n))));
-  }
-}
-
-TEST(KdTreeTiming, ConcentratedSphereVariableH) {
-  sph::ThreadLimit limit(1);
-  const sph::AnyKernel<3> kernel = sph::CubicSplineM4<3>{};
-  std::printf("[ measured ] rho ~ 1/r sphere, h = 1.2 (m/rho)^(1/3): k-d tree at variable h against the cell list at "
-              "h_max, %zu thread(s):\n",
-              sph::active_thread_count());
-  std::printf("[ measured ] %9s %8s %10s %12s %12s %12s %8s\n", "n", "h_max/h_min", "k-d pairs", "k-d total s",
-              "cell pairs", "cell list s", "ratio");
-  for (std::size_t n : {std::size_t(10000), std::size_t(100000), std::size_t(1000000)}) {
-    if (n > timing_max()) continue;
-    std::vector<sph::Vec<3>> x;
-    std::vector<Real> h;
-    concentrated_sphere(n, Real(1.2), 9100 + n, x, h);
-    const Real h_max = *std::max_element(h.begin(), h.end()), h_min = *std::min_element(h.begin(), h.end());
-    sph::InnerRelation<3> relation;
-    sph::KdTree<3> tree;
-    const int repeats = n > 200000 ? 1 : 3;
-    const double kd = best_of(repeats, [&] { sph::rebuild_inner_relation_variable_h<3>(relation, x, h, kernel, tree); });
-    const std::size_t kd_pairs = relation.n_pairs();
-    const double cells = best_of(repeats, [&] { sph::rebuild_inner_relation<3>(relation, x, kernel, h_max); });
-    std::printf("[ measured ] %9zu %8.1f %10zu %12.4f %12zu %12.4f %8.3f\n", n, h_max / h_min, kd_pairs, kd,
-                relation.n_pairs(), cells, kd / cells);
-  }
 }
 
 }  // namespace

@@ -80,6 +80,12 @@ const std::vector<SceneEntry>& scene_registry() {
       {"taylor-bar", "copper bar onto a rigid frictionless wall at 227 m/s (von Mises with linear hardening): final length "
                      "and mushroom radius against the reference",
        [] { return make_taylor_bar_scene(); }},
+      {"evrard-collapse", "Evrard's adiabatic collapse of a self-gravitating gas sphere (Barnes-Hut gravity, variable h): "
+                          "kinetic, thermal and potential energy, and their conservation",
+       [] { return make_evrard_collapse_scene(); }},
+      {"impact", "a basalt sphere struck at 3.2 km/s (Nakamura & Fujiwara 1991): Tillotson, strength, Grady-Kipp damage; "
+                 "largest fragment and fragment masses",
+       [] { return make_impact_scene(); }},
   };
   return scenes;
 }

@@ -3,7 +3,6 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <iomanip>
 #include <limits>
 #include <random>
@@ -341,14 +340,13 @@ FragmentStatistics find_fragments(const InnerRelation<Dim>& relation, std::span<
   return out;
 }
 
-void write_cumulative_mass_distribution(const FragmentStatistics& statistics, const std::string& path) {
-  std::ofstream file(path);
-  if (!file) throw std::runtime_error("write_cumulative_mass_distribution: cannot open '" + path + "' for writing");
-  file << "mass,cumulative_number\n" << std::setprecision(17);
+std::string cumulative_mass_distribution_csv(const FragmentStatistics& statistics) {
+  std::ostringstream out;
+  out << "mass,cumulative_number\n" << std::setprecision(17);
   const auto& f = statistics.fragments;
   for (std::size_t a = 0; a < f.size(); ++a)
-    if (a + 1 == f.size() || f[a + 1].mass != f[a].mass) file << f[a].mass << ',' << a + 1 << '\n';
-  if (!file) throw std::runtime_error("write_cumulative_mass_distribution: writing '" + path + "' failed");
+    if (a + 1 == f.size() || f[a + 1].mass != f[a].mass) out << f[a].mass << ',' << a + 1 << '\n';
+  return out.str();
 }
 
 template Real equivalent_radius<2>(Real);

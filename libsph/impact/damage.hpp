@@ -185,9 +185,9 @@ template <int Dim>
 FragmentStatistics find_fragments(const InnerRelation<Dim>& relation, std::span<const Real> mass,
                                   std::span<const Real> damage, Real threshold);
 
-/// Writes "mass,cumulative_number" rows, one per distinct fragment mass, descending: the number
-/// of fragments with mass >= that mass. Throws std::runtime_error if the file cannot be written.
-void write_cumulative_mass_distribution(const FragmentStatistics& statistics, const std::string& path);
+/// "mass,cumulative_number" rows, one per distinct fragment mass, descending: the number of
+/// fragments with mass >= that mass (a CSV text for the caller to write).
+std::string cumulative_mass_distribution_csv(const FragmentStatistics& statistics);
 
 extern template Real equivalent_radius<2>(Real);
 extern template Real equivalent_radius<3>(Real);

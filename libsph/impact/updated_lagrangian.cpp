@@ -12,6 +12,7 @@
 
 #include "libsph/core/numerical_failure.hpp"
 #include "libsph/core/parallel.hpp"
+#include "libsph/impact/damage.hpp"
 
 namespace sph {
 
@@ -55,6 +56,22 @@ UpdatedLagrangianBody<Dim>::UpdatedLagrangianBody(ParticleSet<Dim>& particles, S
   if (!(settings_.yield_strength >= 0)) throw std::invalid_argument(body + ": yield strength must be >= 0 (0: elastic)");
   if (settings_.yield_strength > 0 && !(settings_.shear_modulus > 0))
     throw std::invalid_argument(body + ": a yield strength needs strength (shear modulus > 0)");
+  if (!(settings_.smoothing_length_factor >= 0))
+    throw std::invalid_argument(body + ": smoothing length factor eta must be >= 0 (0: constant h)");
+  if (settings_.smoothing_length_factor > 0 && (settings_.periodic.any() || settings_.artificial_stress))
+    throw std::invalid_argument(body + ": variable smoothing lengths work without periodic axes and without artificial stress");
+  if (settings_.gravity) {
+    if (Dim != 3) throw std::invalid_argument(body + ": self-gravity is three-dimensional");
+    settings_.gravity->check();
+  }
+  if (settings_.yield_model == YieldModel::drucker_prager &&
+      !(settings_.yield_limit > settings_.yield_strength && settings_.internal_friction >= 0 && settings_.damaged_friction >= 0))
+    throw std::invalid_argument(body + ": Drucker-Prager needs a strength limit above the cohesion and friction coefficients >= 0");
+  if (settings_.damage) {
+    if (!(settings_.shear_modulus > 0)) throw std::invalid_argument(body + ": damage needs strength (shear modulus > 0)");
+    if (!(settings_.damage->youngs_modulus > 0)) throw std::invalid_argument(body + ": damage needs Young's modulus > 0");
+    settings_.damage->weibull.check();
+  }
   if (!(settings_.hardening_modulus >= 0)) throw std::invalid_argument(body + ": hardening modulus must be >= 0");
   if (!(settings_.xsph >= 0 && settings_.xsph <= 1)) throw std::invalid_argument(body + ": XSPH factor must be in [0, 1]");
   if (!(settings_.artificial_stress_factor >= 0) || !(settings_.artificial_stress_exponent > 0))
@@ -75,6 +92,19 @@ UpdatedLagrangianBody<Dim>::UpdatedLagrangianBody(ParticleSet<Dim>& particles, S
     stress_rate_ = particles.template register_field<Mat<Dim>>("deviatoric_stress_rate", Mat<Dim>::Zero(), false);
   }
   if (settings_.yield_strength > 0) plastic_strain_ = particles.template register_field<Real>("plastic_strain", 0);
+  if (settings_.smoothing_length_factor > 0)
+    smoothing_length_ = particles.template register_field<Real>("smoothing_length", settings_.smoothing_length);
+  if (settings_.xsph > 0) xsph_correction_ = particles.template register_field<Vec<Dim>>("xsph_correction", Vec<Dim>::Zero(), false);
+  if (settings_.damage) {
+    damage_ = particles.template register_field<Real>("damage", 0);
+    // The rate a step starts from is state, like the other rates (checkpoints).
+    damage_rate_ = particles.template register_field<Real>("damage_cube_root_rate", 0, false);
+    damage_cap_ = particles.template register_field<Real>("damage_cube_root_cap", 0, false);
+  }
+  if (settings_.gravity) {
+    potential_ = particles.template register_field<Real>("gravitational_potential", 0);
+    gravity_ = std::make_unique<BarnesHutGravity>(*settings_.gravity);
+  }
 }
 
 template <int Dim>
@@ -92,6 +122,12 @@ void UpdatedLagrangianBody<Dim>::initialise() {
   auto m = particles_.field(mass_);
   const auto rho = particles_.field(density_);
   for (std::size_t i = 0; i < particles_.n_particles(); ++i) m[i] = rho[i] * particles_.volume[i];
+  if (settings_.damage) {
+    // Flaws by the particles' volumes, from the seeded generator: the same for any thread count.
+    std::vector<Real> volume(particles_.n_particles());
+    for (std::size_t i = 0; i < volume.size(); ++i) volume[i] = m[i] / rho[i];
+    flaws_ = assign_weibull_flaws(volume, settings_.damage->weibull, settings_.damage->seed);
+  }
   check_state(0);
   compute_rates();
   initial_time_step_ = stable_time_step();
@@ -105,9 +141,12 @@ void UpdatedLagrangianBody<Dim>::update_equation_of_state() {
   auto c = particles_.field(sound_speed_);
   const auto& eos = settings_.equation_of_state;
   const double shear_wave_term = 4.0 / 3.0 * settings_.shear_modulus;  // c^2 = c_eos^2 + 4 mu / (3 rho)
+  std::span<const Real> D;
+  if (settings_.damage) D = particles_.field(damage_);
   parallel_for(particles_.n_particles(), [&](std::size_t i) {
     const auto s = evaluate(eos, rho[i], e[i]);
-    p[i] = static_cast<Real>(s.pressure);
+    // Damage removes the tensile part of the pressure (Benz & Asphaug 1994).
+    p[i] = D.empty() ? static_cast<Real>(s.pressure) : damaged_pressure(static_cast<Real>(s.pressure), D[i]);
     c[i] = static_cast<Real>(std::sqrt(s.sound_speed * s.sound_speed + shear_wave_term / rho[i]));
   });
 }
@@ -115,14 +154,24 @@ void UpdatedLagrangianBody<Dim>::update_equation_of_state() {
 template <int Dim>
 void UpdatedLagrangianBody<Dim>::compute_rates() {
   const Real h = settings_.smoothing_length;
-  if (settings_.periodic.any())
-    rebuild_inner_relation<Dim>(relation_, particles_.position, settings_.kernel, h, settings_.periodic);
-  else
-    rebuild_inner_relation<Dim>(relation_, particles_.position, settings_.kernel, h);
-  update_equation_of_state();
   const std::size_t n = particles_.n_particles();
   const auto m = particles_.field(mass_);
   const auto rho = particles_.field(density_);
+  const bool variable_h = settings_.smoothing_length_factor > 0;
+  std::span<Real> h_of;
+  if (variable_h) {
+    // h_i = eta (m_i / rho_i)^(1/Dim), following the density (Benz 1990); pairs interact with
+    // h_ij = (h_i + h_j) / 2 (Hernquist & Katz 1989), found by the k-d tree.
+    h_of = particles_.field(smoothing_length_);
+    const Real eta = settings_.smoothing_length_factor;
+    parallel_for(n, [&](std::size_t i) { h_of[i] = eta * std::pow(m[i] / rho[i], Real(1) / Real(Dim)); });
+    rebuild_inner_relation_variable_h<Dim>(relation_, particles_.position, h_of, settings_.kernel, tree_);
+  } else if (settings_.periodic.any()) {
+    rebuild_inner_relation<Dim>(relation_, particles_.position, settings_.kernel, h, settings_.periodic);
+  } else {
+    rebuild_inner_relation<Dim>(relation_, particles_.position, settings_.kernel, h);
+  }
+  update_equation_of_state();
   const auto v = particles_.field(velocity_);
   const auto p = particles_.field(pressure_);
   const auto c = particles_.field(sound_speed_);
@@ -132,6 +181,8 @@ void UpdatedLagrangianBody<Dim>::compute_rates() {
   const auto& R = relation_;
   const bool strength = settings_.shear_modulus > 0;
   const bool artificial_stress = settings_.artificial_stress;
+  std::span<const Real> D;
+  if (settings_.damage) D = particles_.field(damage_);
   const Real mu = settings_.shear_modulus, I3 = Real(1) / Real(3);
   // 1. With strength: each particle's corrected velocity gradient, the Jaumann stress rate, the
   // stress power S : eps' / rho, and the artificial stress R_i.
@@ -140,6 +191,7 @@ void UpdatedLagrangianBody<Dim>::compute_rates() {
     S = particles_.field(deviatoric_stress_);
     dS = particles_.field(stress_rate_);
     tension_.resize(artificial_stress ? n : 0);
+    if (!D.empty()) stress_.resize(n);
     parallel_for(n, [&](std::size_t i) {
       Mat<Dim> B = Mat<Dim>::Zero(), G = Mat<Dim>::Zero();
       for (std::size_t k = R.offsets[i]; k < R.offsets[i + 1]; ++k) {
@@ -154,8 +206,10 @@ void UpdatedLagrangianBody<Dim>::compute_rates() {
       const Mat<Dim> strain_rate = Real(0.5) * (grad_v + grad_v.transpose());
       const Mat<Dim> spin = Real(0.5) * (grad_v - grad_v.transpose());
       dS[i] = 2 * mu * (strain_rate - I3 * strain_rate.trace() * Mat<Dim>::Identity()) + S[i] * spin.transpose() + spin * S[i];
+      const Real intact = D.empty() ? Real(1) : 1 - D[i];  // the deviator carried: (1 - D) S
+      if (!D.empty()) stress_[i] = intact * S[i] - p[i] * Mat<Dim>::Identity();
       if (artificial_stress) {
-        const Mat<Dim> sigma = S[i] - p[i] * Mat<Dim>::Identity();
+        const Mat<Dim> sigma = intact * S[i] - p[i] * Mat<Dim>::Identity();
         Eigen::SelfAdjointEigenSolver<Mat<Dim>> eigen;
         eigen.computeDirect(sigma);  // closed form for 2x2 and 3x3
         Vec<Dim> r = Vec<Dim>::Zero();
@@ -165,19 +219,28 @@ void UpdatedLagrangianBody<Dim>::compute_rates() {
       }
     });
   }
+  if (settings_.damage) {
+    // Grady-Kipp: each particle's rate of D^(1/3) from its largest principal stress
+    // (libsph/impact/damage.hpp), the crack-growth radius that of the particle's volume.
+    radius_.resize(n);
+    parallel_for(n, [&](std::size_t i) { radius_[i] = equivalent_radius<Dim>(m[i] / rho[i]); });
+    grady_kipp_damage_rate<Dim>(flaws_, stress_, D, settings_.damage->youngs_modulus, c, radius_,
+                                particles_.field(damage_rate_), particles_.field(damage_cap_));
+  }
   // 2. The pair sums. Gather over each particle's own row: every sum is in a fixed order, whatever
   // the thread count.
-  const Real alpha = settings_.alpha, beta = settings_.beta, eps_h2 = settings_.epsilon * h * h;
+  const Real alpha = settings_.alpha, beta = settings_.beta, epsilon = settings_.epsilon;
   const Real w_dx = artificial_stress ? std::visit([&](const auto& kernel) { return kernel.value(settings_.particle_spacing, h); },
                                                    settings_.kernel)
                                       : Real(1);
   const Real exponent = settings_.artificial_stress_exponent;
   const bool xsph = settings_.xsph > 0;
-  if (xsph) xsph_correction_.resize(n);
+  std::span<Vec<Dim>> xsph_correction;
+  if (xsph) xsph_correction = particles_.field(xsph_correction_);
   parallel_for(n, [&](std::size_t i) {
     const Real pi_term = p[i] / (rho[i] * rho[i]);
     Mat<Dim> s_i = Mat<Dim>::Zero();
-    if (strength) s_i = S[i] / (rho[i] * rho[i]);
+    if (strength) s_i = (D.empty() ? Real(1) : 1 - D[i]) * S[i] / (rho[i] * rho[i]);
     Vec<Dim> acc = Vec<Dim>::Zero(), smoothed = Vec<Dim>::Zero();
     Real rate_rho = 0, rate_e = 0;
     for (std::size_t k = R.offsets[i]; k < R.offsets[i + 1]; ++k) {
@@ -187,14 +250,15 @@ void UpdatedLagrangianBody<Dim>::compute_rates() {
       const Real vr = v_ij.dot(R.unit_vector[k]) * R.distance[k];  // v_ij . x_ij
       Real viscosity = 0;
       if (vr < 0) {
-        const Real phi = h * vr / (R.distance[k] * R.distance[k] + eps_h2);
+        const Real h_ij = variable_h ? Real(0.5) * (h_of[i] + h_of[j]) : h;
+        const Real phi = h_ij * vr / (R.distance[k] * R.distance[k] + epsilon * h_ij * h_ij);
         viscosity = (-alpha * Real(0.5) * (c[i] + c[j]) * phi + beta * phi * phi) / (Real(0.5) * (rho[i] + rho[j]));
       }
       const Real term = pi_term + p[j] / (rho[j] * rho[j]) + viscosity;
       const Real v_grad = v_ij.dot(grad);
       acc -= m[j] * term * grad;
       if (strength) {
-        Mat<Dim> pair = s_i + S[j] / (rho[j] * rho[j]);
+        Mat<Dim> pair = s_i + (D.empty() ? Real(1) : 1 - D[j]) * S[j] / (rho[j] * rho[j]);
         if (artificial_stress) pair += (tension_[i] + tension_[j]) * std::pow(R.kernel_value[k] / w_dx, exponent);
         const Vec<Dim> traction = pair * grad;
         acc += m[j] * traction;
@@ -204,7 +268,7 @@ void UpdatedLagrangianBody<Dim>::compute_rates() {
       rate_rho += m[j] / rho[j] * v_grad;
       if (xsph) smoothed -= m[j] / (Real(0.5) * (rho[i] + rho[j])) * R.kernel_value[k] * v_ij;
     }
-    if (xsph) xsph_correction_[i] = settings_.xsph * smoothed;
+    if (xsph) xsph_correction[i] = settings_.xsph * smoothed;
 
     // A held particle keeps its density, energy and stress rates (so a clamp carries load and
     // moment); only its motion is fixed.
@@ -212,29 +276,68 @@ void UpdatedLagrangianBody<Dim>::compute_rates() {
     de[i] = rate_e;
     drho[i] = rho[i] * rate_rho;
   });
+  if (gravity_) {
+    // Self-gravity (libsph/impact/gravity.hpp), softened with each particle's h.
+    if constexpr (Dim == 3) {
+      gravity_h_.resize(n);
+      const Real fixed = settings_.gravitational_softening;
+      parallel_for(n, [&](std::size_t i) { gravity_h_[i] = fixed > 0 ? fixed : variable_h ? h_of[i] : h; });
+      gravity_acceleration_.resize(n);
+      gravity_->compute(particles_.position, m, gravity_h_, gravity_acceleration_, particles_.field(potential_));
+      parallel_for(n, [&](std::size_t i) { a[i] += gravity_acceleration_[i]; });
+    }
+  }
 }
 
 template <int Dim>
 Real UpdatedLagrangianBody<Dim>::stable_time_step() const {
   const auto v = particles_.field(velocity_);
   const auto c = particles_.field(sound_speed_);
+  if (settings_.smoothing_length_factor > 0) {
+    // dt = CFL min_i h_i / (c_i + |v_i|), and with gravity also CFL sqrt(h_i / |a_i|).
+    const auto h = particles_.field(smoothing_length_);
+    const auto acc = particles_.field(acceleration_);
+    const bool gravity = gravity_ != nullptr;
+    const Real step = parallel_reduce(
+        particles_.n_particles(), std::numeric_limits<Real>::infinity(),
+        [&](std::size_t i) {
+          Real rate = (c[i] + v[i].norm()) / h[i];
+          if (gravity) rate = std::max(rate, std::sqrt(acc[i].norm() / h[i]));
+          return rate > 0 ? settings_.cfl / rate : std::numeric_limits<Real>::infinity();
+        },
+        [](Real x, Real y) { return std::min(x, y); });
+    return step;
+  }
   const Real fastest = parallel_max(particles_.n_particles(), Real(0), [&](std::size_t i) { return c[i] + v[i].norm(); });
   return fastest > 0 ? settings_.cfl * settings_.smoothing_length / fastest : std::numeric_limits<Real>::infinity();
 }
 
 template <int Dim>
-Mat<Dim> UpdatedLagrangianBody<Dim>::yield(const Mat<Dim>& S, Real plastic_strain, Real& plastic_increment) const {
-  // von Mises with linear isotropic hardening, Y = Y0 + H eps_p: a trial deviator beyond the yield
-  // surface is scaled back radially (Wilkins 1964), and the equivalent plastic strain grows by
-  // (sigma_eq - Y) / (3 mu + H), which puts the scaled deviator on the hardened surface
-  // (Simo & Hughes 1998, Computational Inelasticity, box 3.2). In 2D (plane strain)
-  // S_zz = -(S_xx + S_yy) enters S:S.
+Mat<Dim> UpdatedLagrangianBody<Dim>::yield(const Mat<Dim>& S, Real plastic_strain, Real pressure, Real damage,
+                                           Real& plastic_increment) const {
+  // The deviator is scaled back radially onto the yield surface (Wilkins 1964), f = min(Y / sigma_eq, 1)
+  // with sigma_eq = sqrt(3/2 S:S); in 2D (plane strain) S_zz = -(S_xx + S_yy) enters S:S.
+  //   von Mises with linear isotropic hardening: Y = Y0 + H eps_p, and the equivalent plastic strain
+  //     grows by (sigma_eq - Y) / (3 mu + H), which puts the scaled deviator on the hardened surface
+  //     (Simo & Hughes 1998, Computational Inelasticity, box 3.2);
+  //   Drucker-Prager (Collins, Melosh & Ivanov 2004, Meteorit. Planet. Sci. 39:217): intact
+  //     Y_i = Y0 + mu_i p / (1 + mu_i p / (Y_m - Y0)), damaged Y_d = mu_d p, Y = (1 - D) Y_i + D Y_d,
+  //     none below zero (no strength in tension beyond the cohesion's share).
   plastic_increment = 0;
   const Real Y0 = settings_.yield_strength;
   if (!(Y0 > 0)) return S;
   Real J = S.squaredNorm();
   if constexpr (Dim == 2) J += (S(0, 0) + S(1, 1)) * (S(0, 0) + S(1, 1));
-  const Real equivalent = std::sqrt(Real(1.5) * J), Y = Y0 + settings_.hardening_modulus * plastic_strain;
+  const Real equivalent = std::sqrt(Real(1.5) * J);
+  if (settings_.yield_model == YieldModel::drucker_prager) {
+    const Real mu_i = settings_.internal_friction, mu_d = settings_.damaged_friction;
+    const Real intact = Y0 + mu_i * pressure / (1 + mu_i * pressure / (settings_.yield_limit - Y0));
+    const Real Y = std::max(Real(0), (1 - damage) * std::max(Real(0), intact) + damage * std::max(Real(0), mu_d * pressure));
+    if (!(equivalent > Y)) return S;
+    plastic_increment = (equivalent - Y) / (3 * settings_.shear_modulus);
+    return S * (Y / equivalent);
+  }
+  const Real Y = Y0 + settings_.hardening_modulus * plastic_strain;
   if (!(equivalent > Y)) return S;
   plastic_increment = (equivalent - Y) / (3 * settings_.shear_modulus + settings_.hardening_modulus);
   return S * ((Y + settings_.hardening_modulus * plastic_increment) / equivalent);
@@ -273,12 +376,20 @@ void UpdatedLagrangianBody<Dim>::advance(Real time, Real dt) {
     eps_p_half_.resize(n);
   }
   const bool xsph = settings_.xsph > 0;
+  std::span<const Vec<Dim>> xsph_correction;
+  if (xsph) xsph_correction = particles_.field(xsph_correction_);
+  const auto p = particles_.field(pressure_);
+  std::span<Real> D;
+  if (settings_.damage) {
+    D = particles_.field(damage_);
+    advance_damage(D, particles_.field(damage_rate_), particles_.field(damage_cap_), half);  // first half kick of D^(1/3)
+  }
   const auto& box = settings_.periodic;
   parallel_for(n, [&](std::size_t i) {
     v_half[i] = v[i] + half * a[i];
     rho_half[i] = rho[i] + half * drho[i];
     e_half[i] = e[i] + half * de[i];
-    x[i] += dt * (xsph ? Vec<Dim>(v_half[i] + xsph_correction_[i]) : v_half[i]);
+    x[i] += dt * (xsph ? Vec<Dim>(v_half[i] + xsph_correction[i]) : v_half[i]);
     if (box.any()) x[i] = box.wrap(x[i]);
     v[i] = v_half[i] + half * a[i];
     rho[i] = rho_half[i] + half * drho[i];
@@ -286,13 +397,14 @@ void UpdatedLagrangianBody<Dim>::advance(Real time, Real dt) {
     if (strength) {
       // The plastic strain accumulates in the two kicks; the prediction between them only borrows it.
       Real yielded = 0;
-      s_half_[i] = yield(S[i] + half * dS[i], plastic ? eps_p[i] : Real(0), yielded);
+      s_half_[i] = yield(S[i] + half * dS[i], plastic ? eps_p[i] : Real(0), p[i], D.empty() ? Real(0) : D[i], yielded);
       if (plastic) eps_p[i] = eps_p_half_[i] = eps_p[i] + yielded;
-      S[i] = yield(s_half_[i] + half * dS[i], plastic ? eps_p[i] : Real(0), yielded);
+      S[i] = yield(s_half_[i] + half * dS[i], plastic ? eps_p[i] : Real(0), p[i], D.empty() ? Real(0) : D[i], yielded);
     }
   });
   check_state(time + dt);
   compute_rates();
+  if (settings_.damage) advance_damage(D, particles_.field(damage_rate_), particles_.field(damage_cap_), half);
   // Second kick with the new rates.
   parallel_for(n, [&](std::size_t i) {
     v[i] = v_half[i] + half * a[i];
@@ -300,7 +412,7 @@ void UpdatedLagrangianBody<Dim>::advance(Real time, Real dt) {
     e[i] = e_half[i] + half * de[i];
     if (strength) {
       Real yielded = 0;
-      S[i] = yield(s_half_[i] + half * dS[i], plastic ? eps_p_half_[i] : Real(0), yielded);
+      S[i] = yield(s_half_[i] + half * dS[i], plastic ? eps_p_half_[i] : Real(0), p[i], D.empty() ? Real(0) : D[i], yielded);
       if (plastic) eps_p[i] = eps_p_half_[i] + yielded;
     }
   });
@@ -349,6 +461,7 @@ typename UpdatedLagrangianBody<Dim>::Energies UpdatedLagrangianBody<Dim>::energi
   Energies out;
   out.kinetic = parallel_sum(particles_.n_particles(), 0.0, [&](std::size_t i) { return 0.5 * m[i] * v[i].squaredNorm(); });
   out.internal = parallel_sum(particles_.n_particles(), 0.0, [&](std::size_t i) { return double(m[i]) * e[i]; });
+  if (gravity_) out.potential = gravitational_energy(m, particles_.field(potential_));
   return out;
 }
 

@@ -36,21 +36,35 @@
 //
 // Time stepping: leapfrog kick-drift-kick (Springel 2005, MNRAS 364:1105) on v, rho, e and S, the
 // rates re-evaluated once per step at the drifted positions with the predicted state, and the
-// step dt = CFL min_i h / (c_i + |v_i|) with CFL = 0.2. Damage, variable smoothing
-// lengths and self-gravity are not part of this body yet.
+// step dt = CFL min_i h / (c_i + |v_i|) with CFL = 0.2 (with self-gravity also CFL sqrt(h_i / |a_i|)).
+//
+// Variable smoothing lengths (smoothing_length_factor eta > 0): h_i = eta (m_i / rho_i)^(1/Dim) at every
+// evaluation, pairs with h_ij = (h_i + h_j) / 2 from the k-d tree (libsph/core/kd_tree.hpp); the grad-h
+// terms are left out, so energy is conserved only to their size. Self-gravity (3D): Barnes-Hut with
+// the M4-matched softening at h_i (libsph/impact/gravity.hpp).
+//
+// Damage (Grady-Kipp, libsph/impact/damage.hpp): D^(1/3) is kicked with the step like the other
+// state; the pressure in tension and the deviator are carried reduced, p' = (1 - D) p for p < 0 and
+// (1 - D) S, and Drucker-Prager's yield strength moves from the intact to the damaged branch with D.
 //
 // Numerical failure (a density or internal energy that is not positive where the equation of state
 // needs it, a non-finite velocity, a stable step fallen below 1e-6 of the initial one) stops the run
 // with a NumericalFailure naming particle and time.
 
+#include <cstdint>
+#include <memory>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
 
+#include "libsph/core/kd_tree.hpp"
 #include "libsph/core/kernels.hpp"
 #include "libsph/core/neighbour_relation.hpp"
 #include "libsph/core/particles.hpp"
 #include "libsph/core/state_archive.hpp"
+#include "libsph/impact/damage.hpp"
+#include "libsph/impact/gravity.hpp"
 #include "libsph/impact/tillotson.hpp"
 
 namespace sph {
@@ -66,6 +80,16 @@ struct LinearPressure {
 };
 
 using ImpactEquationOfState = std::variant<IdealGas, LinearPressure, TillotsonParameters>;
+
+enum class YieldModel { von_mises, drucker_prager };
+
+/// Grady-Kipp damage (libsph/impact/damage.hpp): flaws drawn per particle from the Weibull law with
+/// this seed when the body is initialised.
+struct DamageSettings {
+  WeibullParameters weibull;
+  std::uint64_t seed = 1;
+  Real youngs_modulus = 0;  ///< E of the strain sigma_max / ((1 - D) E)
+};
 
 template <int Dim>
 class UpdatedLagrangianBody {
@@ -85,7 +109,19 @@ class UpdatedLagrangianBody {
     Real particle_spacing = 0;                     ///< dx of W(dx) (artificial stress)
     Real yield_strength = 0;                       ///< von Mises Y0; 0: elastic
     Real hardening_modulus = 0;                    ///< H of Y = Y0 + H eps_p (linear isotropic hardening)
+    YieldModel yield_model = YieldModel::von_mises;  ///< with Drucker-Prager, yield_strength is the cohesion Y0
+    Real yield_limit = 0;                          ///< Drucker-Prager: the strength limit Y_m
+    Real internal_friction = 0, damaged_friction = 0;  ///< Drucker-Prager: mu_i, mu_d
+    std::optional<DamageSettings> damage;          ///< Grady-Kipp damage (needs strength); none by default
     Real xsph = 0;                                 ///< XSPH factor (Monaghan 1989; 0.5 in the impact codes, 0: off)
+    /// eta > 0: variable smoothing lengths h_i = eta (m_i / rho_i)^(1/Dim) (1.2 for M4), neighbours by
+    /// the k-d tree; 0: the constant smoothing_length (which is then also the initial h).
+    Real smoothing_length_factor = 0;
+    std::optional<GravitySettings> gravity;        ///< self-gravity by Barnes-Hut (3D); none by default
+    /// > 0: one softening length for every particle (the force is then the exact gradient of the
+    /// potential energy); 0: each particle's h (closer to the gas, but the softened potential changes
+    /// with h without work, Price & Monaghan 2007).
+    Real gravitational_softening = 0;
   };
 
   /// Registers mass, density, velocity, energy, pressure, sound_speed, acceleration, density_rate
@@ -103,8 +139,8 @@ class UpdatedLagrangianBody {
   void hold(std::vector<Index> particles);
 
   struct Energies {
-    double kinetic = 0, internal = 0;
-    double total() const { return kinetic + internal; }
+    double kinetic = 0, internal = 0, potential = 0;  ///< potential: 1/2 sum_i m_i phi_i (self-gravity)
+    double total() const { return kinetic + internal + potential; }
   };
   Energies energies() const;
 
@@ -117,6 +153,13 @@ class UpdatedLagrangianBody {
   FieldHandle<Mat<Dim>> deviatoric_stress_field() const { return deviatoric_stress_; }
   /// The equivalent plastic strain (registered with a yield strength only).
   FieldHandle<Real> plastic_strain_field() const { return plastic_strain_; }
+  /// Each particle's h (registered with variable smoothing lengths only).
+  FieldHandle<Real> smoothing_length_field() const { return smoothing_length_; }
+  /// The gravitational potential phi_i (registered with self-gravity only).
+  FieldHandle<Real> potential_field() const { return potential_; }
+  /// The scalar damage D in [0, 1] (registered with damage only).
+  FieldHandle<Real> damage_field() const { return damage_; }
+  const WeibullFlaws& flaws() const { return flaws_; }
   ParticleSet<Dim>& particles() { return particles_; }
   const Settings& settings() const { return settings_; }
   std::size_t steps() const { return steps_; }
@@ -130,15 +173,22 @@ class UpdatedLagrangianBody {
   void update_equation_of_state();
   void compute_rates();
   void check_state(Real time) const;
-  Mat<Dim> yield(const Mat<Dim>& S, Real plastic_strain, Real& plastic_increment) const;
+  Mat<Dim> yield(const Mat<Dim>& S, Real plastic_strain, Real pressure, Real damage, Real& plastic_increment) const;
 
   ParticleSet<Dim>& particles_;
   Settings settings_;
   InnerRelation<Dim> relation_;
   FieldHandle<Real> mass_, density_, energy_, pressure_, sound_speed_, density_rate_, energy_rate_;
-  FieldHandle<Vec<Dim>> velocity_, acceleration_;
+  FieldHandle<Vec<Dim>> velocity_, acceleration_, xsph_correction_;  // the XSPH term of the drift
   FieldHandle<Mat<Dim>> deviatoric_stress_, stress_rate_;
-  FieldHandle<Real> plastic_strain_;
+  FieldHandle<Real> plastic_strain_, smoothing_length_, potential_, damage_, damage_rate_, damage_cap_;
+  WeibullFlaws flaws_;
+  std::vector<Mat<Dim>> stress_;                  // the damaged stress -p' I + (1 - D) S
+  std::vector<Real> radius_;                      // crack-growth radius of each particle
+  KdTree<Dim> tree_;                              // neighbours with variable h
+  std::unique_ptr<BarnesHutGravity> gravity_;
+  std::vector<Real> gravity_h_;
+  std::vector<Vec<Dim>> gravity_acceleration_;
   std::size_t steps_ = 0;
   Real initial_time_step_ = 0;  // a step below 1e-6 of it stops the run
   std::vector<Index> held_;
@@ -147,7 +197,6 @@ class UpdatedLagrangianBody {
   std::vector<Real> rho_half_, e_half_;
   std::vector<Mat<Dim>> s_half_, tension_;  // half-step deviatoric stress; artificial stress R_i
   std::vector<Real> eps_p_half_;              // plastic strain after the first kick
-  std::vector<Vec<Dim>> xsph_correction_;     // the XSPH term of the drift
 };
 
 extern template class UpdatedLagrangianBody<2>;

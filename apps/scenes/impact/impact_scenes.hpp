@@ -3,7 +3,9 @@
 //   sod-shock-tube (2D slab, periodic across): Sod's shock tube against the exact Riemann solution;
 //   L1 errors of density, velocity and pressure;
 //   rubber-rings: Gray, Monaghan & Swift's colliding elastic rings, with or without artificial stress;
-//   taylor-bar: a copper bar onto a rigid wall, von Mises plasticity: final length and mushroom radius.
+//   taylor-bar: a copper bar onto a rigid wall, von Mises plasticity: final length and mushroom radius;
+//   evrard-collapse: a self-gravitating gas sphere (Barnes-Hut, variable h): energies, their conservation;
+//   impact: a basalt sphere struck at 3.2 km/s (Nakamura & Fujiwara 1991) with damage: fragments.
 
 #include <memory>
 
@@ -60,5 +62,33 @@ struct TaylorBarParameters {
 };
 
 std::unique_ptr<Scene> make_taylor_bar_scene(TaylorBarParameters parameters = {});
+
+struct EvrardCollapseParameters {
+  long particles = 10000;
+  double internal_energy = 0.05, gamma = 5.0 / 3.0;
+  double theta = 0.5;
+  double gravitational_softening = 0.02;  ///< one M4 softening length for all (0: each particle's h, which loses energy)
+  double smoothing_length_factor = 1.2;
+  double alpha = 1, beta = 2;
+  double end_time = 3;
+  double output_interval = 0;
+};
+
+std::unique_ptr<Scene> make_evrard_collapse_scene(EvrardCollapseParameters parameters = {});
+
+struct ImpactParameters {
+  long resolution = 15;  ///< particles across the target's radius
+  double target_radius = 0.03, projectile_mass = 0.2e-3, speed = 3200, impact_angle = 30;
+  double shear_modulus = 22.7e9, yield_strength = 3.5e9;
+  double weibull_k = 5e34, weibull_m = 8.5;  ///< Benz & Asphaug 1994 (5e28 cm^-3)
+  long seed = 1;
+  double smoothing_length_ratio = 1.2;
+  double alpha = 1, beta = 2;
+  double experiment_largest_fragment = 0.31;
+  double end_time = 60e-6;
+  double output_interval = 0;
+};
+
+std::unique_ptr<Scene> make_impact_scene(ImpactParameters parameters = {});
 
 }  // namespace cardiosph

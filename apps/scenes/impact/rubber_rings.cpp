@@ -69,7 +69,7 @@ class RubberRingsScene final : public Scene {
     p.add("gap", p_.gap, "-", "initial gap between the rings along x", sph::Range::non_negative());
     p.add("density", p_.density, "-", "reference density rho0", sph::Range::positive());
     p.add("youngs_modulus", p_.youngs_modulus, "-", "Young's modulus E", sph::Range::positive());
-    p.add("poisson_ratio", p_.poisson_ratio, "-", "Poisson's ratio", {0, 0.5, true, false});
+    p.add("poisson_ratio", p_.poisson_ratio, "-", "Poisson's ratio", {0, 0.5, false, true});
     p.add("speed", p_.speed, "c0", "each ring's speed towards the other, in units of c0 = sqrt(K / rho0)",
           sph::Range::positive());
     p.add("artificial_stress", p_.artificial_stress, "Gray, Monaghan & Swift's artificial stress (false shows the tensile instability)");

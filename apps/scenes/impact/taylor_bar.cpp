@@ -46,7 +46,7 @@ class TaylorBarScene final : public Scene {
     p.add("speed", p_.speed, "m/s", "impact speed", sph::Range::positive());
     p.add("density", p_.density, "kg/m^3", "reference density", sph::Range::positive());
     p.add("youngs_modulus", p_.youngs_modulus, "Pa", "Young's modulus", sph::Range::positive());
-    p.add("poisson_ratio", p_.poisson_ratio, "-", "Poisson's ratio", {0, 0.5, true, false});
+    p.add("poisson_ratio", p_.poisson_ratio, "-", "Poisson's ratio", {0, 0.5, false, true});
     p.add("yield_strength", p_.yield_strength, "Pa", "von Mises yield strength Y0", sph::Range::positive());
     p.add("hardening_modulus", p_.hardening_modulus, "Pa", "linear hardening: Y = Y0 + H eps_p", sph::Range::non_negative());
     p.add("smoothing_length_ratio", p_.smoothing_length_ratio, "-", "h / dx (cubic spline M4 kernel)", sph::Range::closed(1.0, 2.5));
