@@ -1,10 +1,16 @@
-// The Barnes-Hut gravity's cost and accuracy against the particle count: for n uniform random
-// particles in a unit ball (h = 1.2 mean spacing), the tree's build + force time (theta 0.5 with
-// quadrupole unless told), the direct summation's time and the tree's relative rms acceleration error against
-// direct summation, sampled on 1000 target particles. A standalone program (no Google Benchmark):
-//   bench_impact [largest n, default 1000000] [--full-direct] [--leaf-size k] [--theta t]
-// With --full-direct the whole direct sum is timed up to n = 1e5; otherwise (and always beyond
-// 1e5) the direct time is the 1000-target time scaled by n / 1000, i.e. extrapolated as n^2.
+// The impact family's speed, as two tables (a standalone program, no Google Benchmark):
+//  1. particle-steps per second of the updated-Lagrangian body on a basalt block (3D lattice, M4 at
+//     h = 1.2 dx) stirred by a random velocity field: hydrodynamics alone, with strength (Tillotson,
+//     Hooke in the Jaumann rate, von Mises), with strength and Grady-Kipp damage, and with variable h
+//     (k-d tree) instead of the cell-linked list;
+//  2. the Barnes-Hut gravity's cost and accuracy against the particle count: for n uniform random
+//     particles in a unit ball (h = 1.2 mean spacing), the tree's build + force time (theta 0.5 with
+//     quadrupole unless told), the direct summation's time and the tree's relative rms acceleration
+//     error against direct summation, sampled on 1000 target particles. With --full-direct the whole
+//     direct sum is timed up to n = 1e5; otherwise (and always beyond 1e5) the direct time is the
+//     1000-target time scaled by n / 1000, i.e. extrapolated as n^2.
+//   bench_impact [largest n of the gravity table, default 1000000] [--full-direct] [--leaf-size k]
+//                [--theta t] [--steps-only | --gravity-only]
 
 #include <chrono>
 #include <cmath>
@@ -15,7 +21,9 @@
 #include <vector>
 
 #include "libsph/core/parallel.hpp"
+#include "geometry/lattice.hpp"
 #include "libsph/impact/gravity.hpp"
+#include "libsph/impact/updated_lagrangian.hpp"
 
 namespace {
 
@@ -28,16 +36,69 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
+// Particle-steps per second of one configuration of the body on a basalt block of about n particles.
+double particle_steps_per_second(std::size_t n, bool strength, bool damage, bool variable_h, std::size_t& particles) {
+  const auto& basalt = sph::tillotson_material("basalt").parameters;
+  const Real dx = Real(0.001), side = dx * std::round(Real(std::cbrt(double(n))));
+  auto block = geometry::lattice_box<3>("block", Vec3::Zero(), Vec3(side, side, side), dx);
+  particles = block.n_particles();
+  sph::UpdatedLagrangianBody<3>::Settings s;
+  s.equation_of_state = basalt;
+  s.smoothing_length = Real(1.2) * dx;
+  if (variable_h) s.smoothing_length_factor = Real(1.2);
+  if (strength) {
+    s.shear_modulus = Real(22.7e9);
+    s.yield_strength = Real(3.5e9);
+  }
+  if (damage) s.damage = sph::DamageSettings{{5e34, 8.5}, 1, Real(53e9)};
+  sph::UpdatedLagrangianBody<3> body(block, s);
+  auto rho = block.field(body.density_field());
+  auto v = block.field(body.velocity_field());
+  std::mt19937_64 engine(7);
+  for (std::size_t i = 0; i < particles; ++i) {
+    rho[i] = Real(basalt.reference_density);
+    for (int d = 0; d < 3; ++d) v[i][d] = Real(20 * (double(engine() >> 11) * 0x1.0p-53 - 0.5));  // +-10 m/s
+  }
+  body.initialise();
+  Real t = 0;
+  auto step = [&] {
+    const Real dt = body.stable_time_step();
+    body.advance(t, dt);
+    t += dt;
+  };
+  for (int k = 0; k < 2; ++k) step();  // warm the scratch storage
+  const int steps = particles > 200000 ? 5 : 20;
+  const auto start = std::chrono::steady_clock::now();
+  for (int k = 0; k < steps; ++k) step();
+  return double(particles) * steps / seconds_since(start);
+}
+
 int main(int argc, char** argv) {
   std::size_t largest = 1000000;
-  bool full_direct = false;
+  bool full_direct = false, steps_table = true, gravity_table = true;
   sph::GravitySettings settings;
   for (int k = 1; k < argc; ++k) {
     if (std::strcmp(argv[k], "--full-direct") == 0) full_direct = true;
     else if (std::strcmp(argv[k], "--leaf-size") == 0 && k + 1 < argc) settings.leaf_size = std::strtoull(argv[++k], nullptr, 10);
     else if (std::strcmp(argv[k], "--theta") == 0 && k + 1 < argc) settings.theta = static_cast<Real>(std::strtod(argv[++k], nullptr));
+    else if (std::strcmp(argv[k], "--steps-only") == 0) gravity_table = false;
+    else if (std::strcmp(argv[k], "--gravity-only") == 0) steps_table = false;
     else largest = std::strtoull(argv[k], nullptr, 10);
   }
+  if (steps_table) {
+    std::printf("updated-Lagrangian body, basalt block, threads %zu: million particle-steps per second\n", sph::active_thread_count());
+    std::printf("%9s %12s %12s %16s %16s\n", "particles", "hydro", "strength", "strength+damage", "hydro, k-d tree");
+    for (const std::size_t n : {10000ul, 100000ul}) {
+      std::size_t particles = 0;
+      const double hydro = particle_steps_per_second(n, false, false, false, particles);
+      const double strength = particle_steps_per_second(n, true, false, false, particles);
+      const double damage = particle_steps_per_second(n, true, true, false, particles);
+      const double kd = particle_steps_per_second(n, false, false, true, particles);
+      std::printf("%9zu %12.3f %12.3f %16.3f %16.3f\n", particles, 1e-6 * hydro, 1e-6 * strength, 1e-6 * damage, 1e-6 * kd);
+      std::fflush(stdout);
+    }
+  }
+  if (!gravity_table) return 0;
   std::printf("threads %zu; theta %g, quadrupole, leaf size %zu\n", sph::active_thread_count(), double(settings.theta), settings.leaf_size);
   std::printf("%9s %10s %10s %12s %10s %12s %10s %10s %14s\n", "n", "build+BH s", "2nd call s", "us/particle", "us/p/log2n",
               "direct s", "(how)", "rms error", "multipoles,pairs");
