@@ -275,7 +275,8 @@ const std::vector<ResumeCase>& resume_cases() {
       // The energy extremes are state; gravity and the variable h are rebuilt from the fields.
       ResumeCase{"evrard-collapse", {"particles=600", "end_time=0.6", "output_interval=0.3"}, "0.4"},
       // While the damage grows: the flaws are drawn again from the seed.
-      ResumeCase{"impact", {"resolution=5", "end_time=12e-6", "output_interval=6e-6"}, "8e-6"}};
+      ResumeCase{"impact", {"resolution=5", "end_time=12e-6", "output_interval=6e-6"}, "8e-6"},
+      ResumeCase{"sedov-blast", {"resolution=40", "end_time=0.03", "output_interval=0.015"}, "0.02"}};
   return cases;
 }
 

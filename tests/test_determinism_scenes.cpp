@@ -92,7 +92,8 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"rubber-rings", {"resolution=4", "end_time=6e-5"}},
                       Case{"taylor-bar", {"resolution=2", "end_time=1.5e-5"}},
                       Case{"evrard-collapse", {"particles=600", "end_time=0.3"}},
-                      Case{"impact", {"resolution=5", "end_time=8e-6"}}),
+                      Case{"impact", {"resolution=5", "end_time=8e-6"}},
+                      Case{"sedov-blast", {"resolution=40", "end_time=0.02"}}),
     [](const ::testing::TestParamInfo<Case>& param) {
       std::string name = param.param.scene;
       std::replace(name.begin(), name.end(), '-', '_');

@@ -86,6 +86,9 @@ const std::vector<SceneEntry>& scene_registry() {
       {"impact", "a basalt sphere struck at 3.2 km/s (Nakamura & Fujiwara 1991): Tillotson, strength, Grady-Kipp damage; "
                  "largest fragment and fragment masses",
        [] { return make_impact_scene(); }},
+      {"sedov-blast", "2D point explosion in a cold gas (variable h): shock radius against time and density profile against "
+                      "the self-similar Sedov-Taylor solution",
+       [] { return make_sedov_blast_scene(); }},
   };
   return scenes;
 }

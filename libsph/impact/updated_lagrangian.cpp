@@ -50,6 +50,10 @@ UpdatedLagrangianBody<Dim>::UpdatedLagrangianBody(ParticleSet<Dim>& particles, S
   if (const auto* gas = std::get_if<IdealGas>(&settings_.equation_of_state); gas && !(gas->gamma > 1))
     throw std::invalid_argument(body + ": ideal gas gamma = " + std::to_string(gas->gamma) + " must be > 1");
   if (const auto* m = std::get_if<TillotsonParameters>(&settings_.equation_of_state)) m->check();
+  if (const auto* m = std::get_if<PorousTillotson>(&settings_.equation_of_state)) {
+    m->matrix.check();
+    m->porosity.check();
+  }
   if (const auto* l = std::get_if<LinearPressure>(&settings_.equation_of_state); l && !(l->reference_density > 0 && l->sound_speed > 0))
     throw std::invalid_argument(body + ": linear pressure needs a positive reference density and sound speed");
   if (!(settings_.shear_modulus >= 0)) throw std::invalid_argument(body + ": shear modulus must be >= 0");
@@ -95,6 +99,8 @@ UpdatedLagrangianBody<Dim>::UpdatedLagrangianBody(ParticleSet<Dim>& particles, S
   if (settings_.smoothing_length_factor > 0)
     smoothing_length_ = particles.template register_field<Real>("smoothing_length", settings_.smoothing_length);
   if (settings_.xsph > 0) xsph_correction_ = particles.template register_field<Vec<Dim>>("xsph_correction", Vec<Dim>::Zero(), false);
+  if (const auto* m = std::get_if<PorousTillotson>(&settings_.equation_of_state))
+    distension_ = particles.template register_field<Real>("distension", Real(m->porosity.alpha0));
   if (settings_.damage) {
     damage_ = particles.template register_field<Real>("damage", 0);
     // The rate a step starts from is state, like the other rates (checkpoints).
@@ -143,8 +149,20 @@ void UpdatedLagrangianBody<Dim>::update_equation_of_state() {
   const double shear_wave_term = 4.0 / 3.0 * settings_.shear_modulus;  // c^2 = c_eos^2 + 4 mu / (3 rho)
   std::span<const Real> D;
   if (settings_.damage) D = particles_.field(damage_);
+  const auto* porous = std::get_if<PorousTillotson>(&eos);
+  std::span<Real> alpha;
+  if (porous) alpha = particles_.field(distension_);
   parallel_for(particles_.n_particles(), [&](std::size_t i) {
-    const auto s = evaluate(eos, rho[i], e[i]);
+    PressureAndSoundSpeed s{};
+    if (porous) {
+      // The distension only falls (compaction is irreversible); the step's prediction may compact a
+      // particle a little before the final state does.
+      const auto state = porous_tillotson(porous->matrix, porous->porosity, rho[i], e[i], alpha[i]);
+      alpha[i] = static_cast<Real>(state.distension);
+      s = {state.pressure, std::sqrt(state.sound_speed_squared)};
+    } else {
+      s = evaluate(eos, rho[i], e[i]);
+    }
     // Damage removes the tensile part of the pressure (Benz & Asphaug 1994).
     p[i] = D.empty() ? static_cast<Real>(s.pressure) : damaged_pressure(static_cast<Real>(s.pressure), D[i]);
     c[i] = static_cast<Real>(std::sqrt(s.sound_speed * s.sound_speed + shear_wave_term / rho[i]));
@@ -170,6 +188,17 @@ void UpdatedLagrangianBody<Dim>::compute_rates() {
     rebuild_inner_relation<Dim>(relation_, particles_.position, settings_.kernel, h, settings_.periodic);
   } else {
     rebuild_inner_relation<Dim>(relation_, particles_.position, settings_.kernel, h);
+  }
+  if (settings_.density_summation) {
+    // rho_i = m_i W(0, h_i) + sum_j m_j W(r_ij, h_ij), at the h set from the previous density.
+    auto rho_sum = particles_.field(density_);
+    const auto& R = relation_;
+    parallel_for(n, [&](std::size_t i) {
+      const Real h_i = variable_h ? h_of[i] : h;
+      Real sum = m[i] * std::visit([&](const auto& kernel) { return kernel.value(Real(0), h_i); }, settings_.kernel);
+      for (std::size_t k = R.offsets[i]; k < R.offsets[i + 1]; ++k) sum += m[R.neighbour[k]] * R.kernel_value[k];
+      rho_sum[i] = sum;
+    });
   }
   update_equation_of_state();
   const auto v = particles_.field(velocity_);
@@ -260,11 +289,14 @@ void UpdatedLagrangianBody<Dim>::compute_rates() {
       if (strength) {
         Mat<Dim> pair = s_i + (D.empty() ? Real(1) : 1 - D[j]) * S[j] / (rho[j] * rho[j]);
         if (artificial_stress) pair += (tension_[i] + tension_[j]) * std::pow(R.kernel_value[k] / w_dx, exponent);
-        const Vec<Dim> traction = pair * grad;
-        acc += m[j] * traction;
-        rate_e -= Real(0.5) * m[j] * v_ij.dot(traction);  // the work of the pair's force, as for the pressure
+        acc += m[j] * (pair * grad);
+        // The work of particle i's own deviator, and half the artificial stress's.
+        rate_e -= m[j] * v_ij.dot(s_i * grad);
+        if (artificial_stress)
+          rate_e -= Real(0.5) * m[j] * v_ij.dot((tension_[i] + tension_[j]) * grad) * std::pow(R.kernel_value[k] / w_dx, exponent);
       }
-      rate_e += Real(0.5) * m[j] * term * v_grad;
+      // The work of particle i's own pressure, and half the viscous heating of the pair.
+      rate_e += m[j] * (pi_term + Real(0.5) * viscosity) * v_grad;
       rate_rho += m[j] / rho[j] * v_grad;
       if (xsph) smoothed -= m[j] / (Real(0.5) * (rho[i] + rho[j])) * R.kernel_value[k] * v_ij;
     }
@@ -375,6 +407,7 @@ void UpdatedLagrangianBody<Dim>::advance(Real time, Real dt) {
     eps_p = particles_.field(plastic_strain_);
     eps_p_half_.resize(n);
   }
+  const bool summation = settings_.density_summation;  // the density then comes from the positions
   const bool xsph = settings_.xsph > 0;
   std::span<const Vec<Dim>> xsph_correction;
   if (xsph) xsph_correction = particles_.field(xsph_correction_);
@@ -387,12 +420,12 @@ void UpdatedLagrangianBody<Dim>::advance(Real time, Real dt) {
   const auto& box = settings_.periodic;
   parallel_for(n, [&](std::size_t i) {
     v_half[i] = v[i] + half * a[i];
-    rho_half[i] = rho[i] + half * drho[i];
+    rho_half[i] = summation ? rho[i] : rho[i] + half * drho[i];
     e_half[i] = e[i] + half * de[i];
     x[i] += dt * (xsph ? Vec<Dim>(v_half[i] + xsph_correction[i]) : v_half[i]);
     if (box.any()) x[i] = box.wrap(x[i]);
     v[i] = v_half[i] + half * a[i];
-    rho[i] = rho_half[i] + half * drho[i];
+    if (!summation) rho[i] = rho_half[i] + half * drho[i];
     e[i] = e_half[i] + half * de[i];
     if (strength) {
       // The plastic strain accumulates in the two kicks; the prediction between them only borrows it.
@@ -403,12 +436,28 @@ void UpdatedLagrangianBody<Dim>::advance(Real time, Real dt) {
     }
   });
   check_state(time + dt);
+  {
+    // A particle that crossed its whole kernel support in one step was stepped past stability.
+    const bool variable = settings_.smoothing_length_factor > 0;
+    std::span<const Real> h_of;
+    if (variable) h_of = particles_.field(smoothing_length_);
+    const Real support = std::visit([](const auto& kernel) { return kernel.support_radius(Real(1)); }, settings_.kernel);
+    const std::size_t jumped = first_index_where(n, [&](std::size_t i) {
+      return dt * v_half[i].norm() > support * (variable ? h_of[i] : settings_.smoothing_length);
+    });
+    if (jumped < n) {
+      char problem[160];
+      std::snprintf(problem, sizeof problem, "%.3g in one step of %.3g is beyond its kernel support (the step is unstable)",
+                    double(dt * v_half[jumped].norm()), double(dt));
+      throw NumericalFailure(particles_.name(), jumped, NumericalFailure::format_position(x[jumped]), time + dt, "displacement", problem);
+    }
+  }
   compute_rates();
   if (settings_.damage) advance_damage(D, particles_.field(damage_rate_), particles_.field(damage_cap_), half);
   // Second kick with the new rates.
   parallel_for(n, [&](std::size_t i) {
     v[i] = v_half[i] + half * a[i];
-    rho[i] = rho_half[i] + half * drho[i];
+    if (!summation) rho[i] = rho_half[i] + half * drho[i];
     e[i] = e_half[i] + half * de[i];
     if (strength) {
       Real yielded = 0;

@@ -5,7 +5,7 @@
 //
 //   d rho_i / dt = rho_i sum_j m_j / rho_j  v_ij . grad_i W_ij
 //   d v_i / dt   = - sum_j m_j (p_i / rho_i^2 + p_j / rho_j^2 + Pi_ij) grad_i W_ij
-//   d e_i / dt   = 1/2 sum_j m_j (p_i / rho_i^2 + p_j / rho_j^2 + Pi_ij) v_ij . grad_i W_ij
+//   d e_i / dt   = sum_j m_j (p_i / rho_i^2 + Pi_ij / 2) v_ij . grad_i W_ij
 //
 // with Monaghan's artificial viscosity, for approaching pairs (v_ij . x_ij < 0),
 //   Pi_ij = (-alpha c_ij phi_ij + beta phi_ij^2) / rho_ij,  phi_ij = h v_ij . x_ij / (|x_ij|^2 + epsilon h^2),
@@ -20,10 +20,17 @@
 //   grad v_i = sum_j m_j / rho_j (v_j - v_i) (x) (C_i grad_i W_ij),  C_i = (sum_j m_j / rho_j (x_j - x_i) (x) grad_i W_ij)^-1
 // (the correction makes it exact for linear velocity fields); the momentum equation takes
 // sigma_i / rho_i^2 + sigma_j / rho_j^2 in place of the pressures, and the energy equation takes the
-// work of the same pair force, -1/2 sum_j m_j v_ij . ((S_i / rho_i^2 + S_j / rho_j^2 + R_ij) grad_i W_ij),
-// so that kinetic plus internal energy is conserved to the time integration (the continuum form
-// S_i : eps'_i / rho_i with the corrected gradient is not the discrete momentum equation's work: on the
-// Taylor bar it gained 17 % of the energy at 3 particles per radius, this form loses 4e-6).
+// work of particle i's own stress in the same discrete form, -sum_j m_j v_ij . (S_i / rho_i^2 grad_i W_ij)
+// (plus half the artificial stress's pair work), so that kinetic plus internal energy is conserved to
+// the time integration (the continuum form S_i : eps'_i / rho_i with the corrected gradient is not the
+// discrete momentum equation's work: on the Taylor bar it gained 17 % of the energy at 3 particles per
+// radius, this form loses 2e-4).
+//
+// The energy equation gives each particle the work of its own pressure and stress (Monaghan 1992,
+// eq. 2.24 form): with the symmetric momentum equation, sum_i m_i (v_i . a_i + de_i/dt) = 0 pair by
+// pair, exactly as with the split form 1/2 (p_i / rho_i^2 + p_j / rho_j^2), but a cold particle next to
+// a hot one is not cooled by its neighbour's pressure (the split form drives it to negative energy
+// at the edge of a point explosion).
 // In 2D the deviator is taken with 1/3 (plane strain), as Gray et al. do.
 // Artificial stress (optional): each particle's tension R_i = U diag(-0.2 max(sigma_A, 0) / rho^2) U^T
 // from the principal stresses sigma_A (U its eigenvectors), added to the pair as
@@ -65,6 +72,7 @@
 #include "libsph/core/state_archive.hpp"
 #include "libsph/impact/damage.hpp"
 #include "libsph/impact/gravity.hpp"
+#include "libsph/impact/porosity.hpp"
 #include "libsph/impact/tillotson.hpp"
 
 namespace sph {
@@ -79,7 +87,14 @@ struct LinearPressure {
   double reference_density = 1, sound_speed = 1;
 };
 
-using ImpactEquationOfState = std::variant<IdealGas, LinearPressure, TillotsonParameters>;
+/// A porous material over a Tillotson matrix: p = p_s(alpha rho, e) / alpha with the distension
+/// alpha following the p-alpha crush curve, never increasing (libsph/impact/porosity.hpp).
+struct PorousTillotson {
+  TillotsonParameters matrix;
+  PAlphaParameters porosity;
+};
+
+using ImpactEquationOfState = std::variant<IdealGas, LinearPressure, TillotsonParameters, PorousTillotson>;
 
 enum class YieldModel { von_mises, drucker_prager };
 
@@ -117,6 +132,10 @@ class UpdatedLagrangianBody {
     /// eta > 0: variable smoothing lengths h_i = eta (m_i / rho_i)^(1/Dim) (1.2 for M4), neighbours by
     /// the k-d tree; 0: the constant smoothing_length (which is then also the initial h).
     Real smoothing_length_factor = 0;
+    /// true: the density is the kernel sum rho_i = sum_j m_j W_ij (self included) at every evaluation,
+    /// for gases (an expanding hot spot's density falls with its neighbours' distance); false: the
+    /// continuity equation (solids, and gases whose edges must not lose density).
+    bool density_summation = false;
     std::optional<GravitySettings> gravity;        ///< self-gravity by Barnes-Hut (3D); none by default
     /// > 0: one softening length for every particle (the force is then the exact gradient of the
     /// potential energy); 0: each particle's h (closer to the gas, but the softened potential changes
@@ -157,6 +176,8 @@ class UpdatedLagrangianBody {
   FieldHandle<Real> smoothing_length_field() const { return smoothing_length_; }
   /// The gravitational potential phi_i (registered with self-gravity only).
   FieldHandle<Real> potential_field() const { return potential_; }
+  /// The distension alpha >= 1 (registered with a porous equation of state only; starts at alpha0).
+  FieldHandle<Real> distension_field() const { return distension_; }
   /// The scalar damage D in [0, 1] (registered with damage only).
   FieldHandle<Real> damage_field() const { return damage_; }
   const WeibullFlaws& flaws() const { return flaws_; }
@@ -181,7 +202,7 @@ class UpdatedLagrangianBody {
   FieldHandle<Real> mass_, density_, energy_, pressure_, sound_speed_, density_rate_, energy_rate_;
   FieldHandle<Vec<Dim>> velocity_, acceleration_, xsph_correction_;  // the XSPH term of the drift
   FieldHandle<Mat<Dim>> deviatoric_stress_, stress_rate_;
-  FieldHandle<Real> plastic_strain_, smoothing_length_, potential_, damage_, damage_rate_, damage_cap_;
+  FieldHandle<Real> plastic_strain_, smoothing_length_, potential_, damage_, damage_rate_, damage_cap_, distension_;
   WeibullFlaws flaws_;
   std::vector<Mat<Dim>> stress_;                  // the damaged stress -p' I + (1 - D) S
   std::vector<Real> radius_;                      // crack-growth radius of each particle

@@ -5,7 +5,8 @@
 //   rubber-rings: Gray, Monaghan & Swift's colliding elastic rings, with or without artificial stress;
 //   taylor-bar: a copper bar onto a rigid wall, von Mises plasticity: final length and mushroom radius;
 //   evrard-collapse: a self-gravitating gas sphere (Barnes-Hut, variable h): energies, their conservation;
-//   impact: a basalt sphere struck at 3.2 km/s (Nakamura & Fujiwara 1991) with damage: fragments.
+//   impact: a basalt sphere struck at 3.2 km/s (Nakamura & Fujiwara 1991) with damage: fragments;
+//   sedov-blast: a 2D point explosion against the self-similar Sedov-Taylor solution.
 
 #include <memory>
 
@@ -90,5 +91,17 @@ struct ImpactParameters {
 };
 
 std::unique_ptr<Scene> make_impact_scene(ImpactParameters parameters = {});
+
+struct SedovBlastParameters {
+  long resolution = 100;  ///< particles per unit length
+  double half_width = 0.5, energy = 1, density = 1, gamma = 1.4;
+  double blast_radius = 2;  ///< in particle spacings
+  double smoothing_length_factor = 1.5;
+  double alpha = 1, beta = 2;
+  double end_time = 0.1;
+  double output_interval = 0;
+};
+
+std::unique_ptr<Scene> make_sedov_blast_scene(SedovBlastParameters parameters = {});
 
 }  // namespace cardiosph
