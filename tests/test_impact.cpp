@@ -260,6 +260,56 @@ TEST(UpdatedLagrangianStrength, VonMisesKeepsTheEquivalentStressOnTheYieldSurfac
   EXPECT_GT(at_yield, b.particles.n_particles() / 2);  // and the flow has reached it
 }
 
+TEST(UpdatedLagrangianStrength, DruckerPragerYieldGrowsWithPressure) {
+  // Simple shear of a block held at a uniform compression: the deviator grows until sqrt(3/2 S:S)
+  // reaches Y_i = Y0 + mu_i p / (1 + mu_i p / (Y_m - Y0)). Two blocks at two pressures; the shear is
+  // quick against the sound crossing, so the pressure stays what the density sets (measured below).
+  auto yield_reached = [](sph::Real compression, double& pressure) {
+    Block b;
+    sph::UpdatedLagrangianBody<2>::Settings s;
+    s.equation_of_state = sph::LinearPressure{1, 10};
+    s.smoothing_length = sph::Real(0.065);
+    s.shear_modulus = 50;
+    s.yield_model = sph::YieldModel::drucker_prager;
+    s.yield_strength = sph::Real(0.2);  // cohesion Y0
+    s.yield_limit = 5;                  // Y_m
+    s.internal_friction = sph::Real(1.2);
+    sph::UpdatedLagrangianBody<2> body(b.particles, s);
+    auto rho = b.particles.field(body.density_field());
+    auto v = b.particles.field(body.velocity_field());
+    for (std::size_t i = 0; i < b.particles.n_particles(); ++i) {
+      rho[i] = 1 + compression;
+      v[i] = sph::Vec<2>(sph::Real(20) * (b.particles.position[i][1] - sph::Real(0.5)), 0);
+    }
+    body.initialise();
+    sph::Real t = 0;
+    for (int step = 0; step < 15; ++step) {
+      const sph::Real dt = body.stable_time_step();
+      body.advance(t, dt);
+      t += dt;
+    }
+    // The centre particle, away from the free edges.
+    std::size_t centre = 0;
+    for (std::size_t i = 0; i < b.particles.n_particles(); ++i)
+      if ((b.particles.position[i] - sph::Vec<2>(0.5, 0.5)).norm() < (b.particles.position[centre] - sph::Vec<2>(0.5, 0.5)).norm())
+        centre = i;
+    const auto S = b.particles.field(body.deviatoric_stress_field())[centre];
+    pressure = b.particles.field(body.pressure_field())[centre];
+    const double trace = S(0, 0) + S(1, 1);
+    return std::sqrt(1.5 * (S.squaredNorm() + trace * trace));
+  };
+  auto intact = [](double p) { return 0.2 + 1.2 * p / (1 + 1.2 * p / (5 - 0.2)); };
+  double p_low = 0, p_high = 0;
+  const double low = yield_reached(sph::Real(0.002), p_low), high = yield_reached(sph::Real(0.01), p_high);
+  std::printf("[ measured ] Drucker-Prager: p = %.3f: sigma_eq %.4f (Y_i %.4f); p = %.3f: sigma_eq %.4f (Y_i %.4f)\n", p_low, low,
+              intact(p_low), p_high, high, intact(p_high));
+  // Bound 1e-3: on the yield surface of the pressure at the last return, which the step's final
+  // equation-of-state update moves slightly (measured).
+  EXPECT_NEAR(low, intact(p_low), 1e-3);
+  EXPECT_NEAR(high, intact(p_high), 1e-3);
+  EXPECT_GT(high, low);  // the yield strength grows with pressure
+}
+
 TEST(UpdatedLagrangianStrength, ImpossibleStrengthSettingsAreRefused) {
   Block b;
   auto refused = [&](auto edit, const char* words) {

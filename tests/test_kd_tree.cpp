@@ -17,6 +17,7 @@
 #include <string>
 #include <type_traits>
 
+#include "tests/random_points.hpp"
 #include "libsph/core/kd_tree.hpp"
 #include "libsph/core/neighbour_relation.hpp"
 #include "libsph/core/parallel.hpp"
@@ -26,16 +27,8 @@ namespace {
 using sph::Index;
 using sph::Real;
 
-Real uniform(std::mt19937_64& engine) { return static_cast<Real>(engine() >> 11) * static_cast<Real>(0x1.0p-53); }
-
-template <int Dim>
-std::vector<sph::Vec<Dim>> random_points(std::size_t n, Real extent, std::uint64_t seed) {
-  std::mt19937_64 engine(seed);
-  std::vector<sph::Vec<Dim>> points(n);
-  for (auto& x : points)
-    for (int d = 0; d < Dim; ++d) x[d] = extent * uniform(engine);
-  return points;
-}
+using test::random_points;
+using test::uniform;
 
 // A cubic lattice of spacing dx with every coordinate moved by up to +-jitter * dx.
 template <int Dim>

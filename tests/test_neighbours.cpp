@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "tests/random_points.hpp"
 #include "libsph/core/neighbour_relation.hpp"
 #include "libsph/core/particle_sorting.hpp"
 
@@ -15,16 +16,8 @@ namespace {
 using sph::Index;
 using sph::Real;
 
-Real uniform(std::mt19937_64& engine) { return static_cast<Real>(engine() >> 11) * 0x1.0p-53; }
-
-template <int Dim>
-std::vector<sph::Vec<Dim>> random_points(std::size_t n, Real extent, std::uint64_t seed) {
-  std::mt19937_64 engine(seed);
-  std::vector<sph::Vec<Dim>> points(n);
-  for (auto& x : points)
-    for (int d = 0; d < Dim; ++d) x[d] = extent * uniform(engine);
-  return points;
-}
+using test::random_points;
+using test::uniform;
 
 // Points on a lattice whose spacing divides the support radius, so that many points sit exactly
 // on cell faces and many pairs are exactly one support radius apart.

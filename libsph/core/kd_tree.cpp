@@ -322,15 +322,7 @@ void fill_variable_h(InnerRelation<Dim>& relation, std::span<const Vec<Dim>> pos
     }
   });
 
-  // Exclusive scan into row offsets.
-  relation.offsets.assign(n + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) relation.offsets[i + 1] = relation.offsets[i] + count[i];
-  const std::size_t n_pairs = relation.offsets[n];
-  relation.neighbour.resize(n_pairs);
-  relation.kernel_value.resize(n_pairs);
-  relation.kernel_derivative.resize(n_pairs);
-  relation.distance.resize(n_pairs);
-  relation.unit_vector.resize(n_pairs);
+  relation.size_rows(count);
 
   // Pass 2: the pair data, with the same expressions as the cell-list relation evaluated at h_ij
   // (so that a constant h gives the same bits).

@@ -88,15 +88,7 @@ void fill_relation(NeighbourList<Dim>& list, std::span<const Vec<Dim>> targets, 
     count[i] = c;
   });
 
-  // Exclusive scan into row offsets.
-  list.offsets.assign(n + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) list.offsets[i + 1] = list.offsets[i] + count[i];
-  const std::size_t n_pairs = list.offsets[n];
-  list.neighbour.resize(n_pairs);
-  list.kernel_value.resize(n_pairs);
-  list.kernel_derivative.resize(n_pairs);
-  list.distance.resize(n_pairs);
-  list.unit_vector.resize(n_pairs);
+  list.size_rows(count);
 
   // Pass 2: fill each row in the same candidate order.
   const Real normalisation = Kernel::normalisation(h), inverse_h = Real(1) / h;

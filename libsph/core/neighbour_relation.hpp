@@ -73,6 +73,19 @@ struct NeighbourList {
   std::size_t n_targets() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   std::size_t n_pairs() const { return neighbour.size(); }
   std::size_t n_neighbours(std::size_t i) const { return offsets[i + 1] - offsets[i]; }
+  /// Sets the row offsets from each row's neighbour count (an exclusive scan) and sizes the pair
+  /// arrays to match.
+  void size_rows(std::span<const std::size_t> count) {
+    const std::size_t n = count.size();
+    offsets.assign(n + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) offsets[i + 1] = offsets[i] + count[i];
+    const std::size_t n_pairs = offsets[n];
+    neighbour.resize(n_pairs);
+    kernel_value.resize(n_pairs);
+    kernel_derivative.resize(n_pairs);
+    distance.resize(n_pairs);
+    unit_vector.resize(n_pairs);
+  }
   /// Bytes held per stored pair (index and cached kernel data).
   static constexpr std::size_t bytes_per_pair = sizeof(Index) + 3 * sizeof(Real) + sizeof(Vec<Dim>);
   /// Bytes held: the pairs, the row offsets, and the cell list and counts kept for rebuilds.

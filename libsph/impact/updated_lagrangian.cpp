@@ -106,6 +106,8 @@ UpdatedLagrangianBody<Dim>::UpdatedLagrangianBody(ParticleSet<Dim>& particles, S
     // The rate a step starts from is state, like the other rates (checkpoints).
     damage_rate_ = particles.template register_field<Real>("damage_cube_root_rate", 0, false);
     damage_cap_ = particles.template register_field<Real>("damage_cube_root_cap", 0, false);
+    fracture_area_ = particles.template register_field<Real>("fracture_area", 0);
+    fracture_area_rate_ = particles.template register_field<Real>("fracture_area_rate", 0, false);
   }
   if (settings_.gravity) {
     potential_ = particles.template register_field<Real>("gravitational_potential", 0);
@@ -255,6 +257,16 @@ void UpdatedLagrangianBody<Dim>::compute_rates() {
     parallel_for(n, [&](std::size_t i) { radius_[i] = equivalent_radius<Dim>(m[i] / rho[i]); });
     grady_kipp_damage_rate<Dim>(flaws_, stress_, D, settings_.damage->youngs_modulus, c, radius_,
                                 particles_.field(damage_rate_), particles_.field(damage_cap_));
+    // The fracture area per unit volume grows with the strain until the particle is fully damaged
+    // (Grady & Kipp 1980; the rate in libsph/impact/damage.hpp).
+    auto area_rate = particles_.field(fracture_area_rate_);
+    const auto& weibull = settings_.damage->weibull;
+    const Real E = settings_.damage->youngs_modulus;
+    parallel_for(n, [&](std::size_t i) {
+      const Real intact = 1 - D[i];
+      const Real strain = intact > 0 ? largest_principal_stress<Dim>(stress_[i]) / (intact * E) : Real(0);
+      area_rate[i] = intact > 0 ? Real(fracture_area_rate(weibull, crack_speed_fraction * c[i], strain, D[i])) : Real(0);
+    });
   }
   // 2. The pair sums. Gather over each particle's own row: every sum is in a fixed order, whatever
   // the thread count.
@@ -288,12 +300,17 @@ void UpdatedLagrangianBody<Dim>::compute_rates() {
       acc -= m[j] * term * grad;
       if (strength) {
         Mat<Dim> pair = s_i + (D.empty() ? Real(1) : 1 - D[j]) * S[j] / (rho[j] * rho[j]);
-        if (artificial_stress) pair += (tension_[i] + tension_[j]) * std::pow(R.kernel_value[k] / w_dx, exponent);
+        Real f_n = 0;  // (W(r_ij) / W(dx))^n, n = 4 by default (squared twice: std::pow would cost more than the pair)
+        if (artificial_stress) {
+          const Real f = R.kernel_value[k] / w_dx;
+          f_n = exponent == 4 ? (f * f) * (f * f) : std::pow(f, exponent);
+          pair += (tension_[i] + tension_[j]) * f_n;
+        }
         acc += m[j] * (pair * grad);
         // The work of particle i's own deviator, and half the artificial stress's.
         rate_e -= m[j] * v_ij.dot(s_i * grad);
         if (artificial_stress)
-          rate_e -= Real(0.5) * m[j] * v_ij.dot((tension_[i] + tension_[j]) * grad) * std::pow(R.kernel_value[k] / w_dx, exponent);
+          rate_e -= Real(0.5) * m[j] * v_ij.dot((tension_[i] + tension_[j]) * grad) * f_n;
       }
       // The work of particle i's own pressure, and half the viscous heating of the pair.
       rate_e += m[j] * (pi_term + Real(0.5) * viscosity) * v_grad;
@@ -416,6 +433,7 @@ void UpdatedLagrangianBody<Dim>::advance(Real time, Real dt) {
   if (settings_.damage) {
     D = particles_.field(damage_);
     advance_damage(D, particles_.field(damage_rate_), particles_.field(damage_cap_), half);  // first half kick of D^(1/3)
+    kick_fracture_area(half);
   }
   const auto& box = settings_.periodic;
   parallel_for(n, [&](std::size_t i) {
@@ -453,7 +471,10 @@ void UpdatedLagrangianBody<Dim>::advance(Real time, Real dt) {
     }
   }
   compute_rates();
-  if (settings_.damage) advance_damage(D, particles_.field(damage_rate_), particles_.field(damage_cap_), half);
+  if (settings_.damage) {
+    advance_damage(D, particles_.field(damage_rate_), particles_.field(damage_cap_), half);
+    kick_fracture_area(half);
+  }
   // Second kick with the new rates.
   parallel_for(n, [&](std::size_t i) {
     v[i] = v_half[i] + half * a[i];
@@ -480,6 +501,13 @@ void UpdatedLagrangianBody<Dim>::advance(Real time, Real dt) {
                   double(initial_time_step_), double(c[fastest]), double(v[fastest].norm()));
     throw NumericalFailure(particles_.name(), fastest, NumericalFailure::format_position(x[fastest]), time + dt, "time step", problem);
   }
+}
+
+template <int Dim>
+void UpdatedLagrangianBody<Dim>::kick_fracture_area(Real dt) {
+  auto area = particles_.field(fracture_area_);
+  const auto rate = particles_.field(fracture_area_rate_);
+  parallel_for(particles_.n_particles(), [&](std::size_t i) { area[i] += dt * rate[i]; });
 }
 
 template <int Dim>

@@ -181,6 +181,8 @@ class UpdatedLagrangianBody {
   /// The scalar damage D in [0, 1] (registered with damage only).
   FieldHandle<Real> damage_field() const { return damage_; }
   const WeibullFlaws& flaws() const { return flaws_; }
+  /// The Grady-Kipp fracture area per unit volume A_i (registered with damage only).
+  FieldHandle<Real> fracture_area_field() const { return fracture_area_; }
   ParticleSet<Dim>& particles() { return particles_; }
   const Settings& settings() const { return settings_; }
   std::size_t steps() const { return steps_; }
@@ -195,6 +197,7 @@ class UpdatedLagrangianBody {
   void compute_rates();
   void check_state(Real time) const;
   Mat<Dim> yield(const Mat<Dim>& S, Real plastic_strain, Real pressure, Real damage, Real& plastic_increment) const;
+  void kick_fracture_area(Real dt);
 
   ParticleSet<Dim>& particles_;
   Settings settings_;
@@ -203,6 +206,7 @@ class UpdatedLagrangianBody {
   FieldHandle<Vec<Dim>> velocity_, acceleration_, xsph_correction_;  // the XSPH term of the drift
   FieldHandle<Mat<Dim>> deviatoric_stress_, stress_rate_;
   FieldHandle<Real> plastic_strain_, smoothing_length_, potential_, damage_, damage_rate_, damage_cap_, distension_;
+  FieldHandle<Real> fracture_area_, fracture_area_rate_;
   WeibullFlaws flaws_;
   std::vector<Mat<Dim>> stress_;                  // the damaged stress -p' I + (1 - D) S
   std::vector<Real> radius_;                      // crack-growth radius of each particle

@@ -18,6 +18,7 @@ struct SodShockTubeParameters {
   long resolution = 200;       ///< particles per unit length (the same spacing on both sides)
   double end_time = 0.2;
   double tube_half_length = 1;  ///< the tube is [-L, L]; the error is measured on [-1/2, 1/2]
+  long dimension = 2;          ///< 2: a slab; 3: a square bar
   long rows = 8;               ///< particle rows across the periodic width (at least 4 h / dx)
   double gamma = 1.4;
   double left_density = 1, left_pressure = 1, right_density = 0.125, right_pressure = 0.1;

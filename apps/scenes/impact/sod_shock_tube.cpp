@@ -2,7 +2,8 @@
 // rho, p = 1, 1 for x < 0 and 0.125, 0.1 for x > 0, released at t = 0. By t = 0.2 a rarefaction runs
 // left, a contact and a shock right; the exact solution is the Riemann problem's
 // (libsph/impact/exact_riemann.hpp). Particles on one lattice (spacing dx = 1 / resolution, masses
-// rho dx^2) fill the tube [-L, L] in a slab of `rows` rows, periodic across; the ends stay outside
+// rho dx^2) fill the tube [-L, L] in a slab of `rows` rows, periodic across (in 3D a bar of
+// rows x rows, periodic across both sides, masses rho dx^3); the ends stay outside
 // the waves until t = 0.2 for L = 1. The smoothing length is constant, h = 2 dx: the flow expands
 // the gas along x only, and the layers of the expanded gas (density 0.426, 2.35 dx apart along x)
 // must stay inside each other's support (with h = 1.2 dx they decouple and the contact keeps a
@@ -35,7 +36,6 @@ namespace cardiosph {
 namespace {
 
 using sph::Real;
-using Vec2 = sph::Vec<2>;
 
 class SodShockTubeScene final : public Scene {
  public:
@@ -46,6 +46,8 @@ class SodShockTubeScene final : public Scene {
           sph::Range::closed(20, 20000));
     p.add("end_time", p_.end_time, "-", "simulated time", sph::Range::positive());
     p.add("tube_half_length", p_.tube_half_length, "-", "the tube is [-L, L]", sph::Range::positive());
+    p.add("dimension", p_.dimension, "-", "2: a slab periodic across; 3: a square bar periodic across both sides",
+          sph::Range::closed(2, 3));
     p.add("rows", p_.rows, "-", "particle rows across the periodic slab (at least the kernel support)",
           sph::Range::closed(3, 1000));
     p.add("gamma", p_.gamma, "-", "ratio of specific heats of the ideal gas", {1, 10, true, false});
@@ -80,19 +82,33 @@ class SodShockTubeScene final : public Scene {
   bool checkpoints() const override { return true; }  // nothing kept outside the body
 
   void run(RunContext& ctx) override {
+    if (p_.dimension == 3)
+      run_in<3>(ctx);
+    else
+      run_in<2>(ctx);
+  }
+
+ private:
+  template <int Dim>
+  void run_in(RunContext& ctx) {
+    using Vec = sph::Vec<Dim>;
     const Real dx = Real(1) / static_cast<Real>(p_.resolution);
     const Real L = static_cast<Real>(p_.tube_half_length), W = dx * static_cast<Real>(p_.rows);
-    auto gas = geometry::lattice_box<2>("gas", Vec2(-L, 0), Vec2(L, W), dx);
-    sph::UpdatedLagrangianBody<2>::Settings settings;
+    // The tube along x; the slab W wide (and deep in 3D), periodic across.
+    Vec lower = Vec::Zero(), upper = Vec::Constant(W);
+    lower[0] = -L;
+    upper[0] = L;
+    auto gas = geometry::lattice_box<Dim>("gas", lower, upper, dx);
+    typename sph::UpdatedLagrangianBody<Dim>::Settings settings;
     settings.equation_of_state = sph::IdealGas{p_.gamma};
     settings.smoothing_length = static_cast<Real>(p_.smoothing_length_ratio) * dx;
     settings.alpha = Real(p_.alpha);
     settings.beta = Real(p_.beta);
     settings.epsilon = Real(p_.epsilon);
-    settings.periodic.lower = Vec2(-L, 0);
-    settings.periodic.upper = Vec2(L, W);
-    settings.periodic.periodic = {false, true};
-    sph::UpdatedLagrangianBody<2> body(gas, settings);
+    settings.periodic.lower = lower;
+    settings.periodic.upper = upper;
+    for (int d = 1; d < Dim; ++d) settings.periodic.periodic[d] = true;
+    sph::UpdatedLagrangianBody<Dim> body(gas, settings);
     auto rho = gas.field(body.density_field());
     auto e = gas.field(body.energy_field());
     for (std::size_t i = 0; i < gas.n_particles(); ++i) {
@@ -130,7 +146,7 @@ class SodShockTubeScene final : public Scene {
       const double x = gas.position[i][0];
       const auto s = exact.sample(x / t);
       const double ex_e = s.pressure / ((p_.gamma - 1) * s.density);
-      if (gas.position[i][1] < dx) {  // one row for the profile
+      if (gas.position[i].template tail<Dim - 1>().maxCoeff() < dx) {  // one row for the profile
         char line[256];
         std::snprintf(line, sizeof line, "%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", x, double(rho[i]), double(v[i][0]),
                       double(p[i]), double(e[i]), s.density, s.velocity, s.pressure, ex_e);
@@ -167,7 +183,6 @@ class SodShockTubeScene final : public Scene {
     report.results["smoothing_length"] = settings.smoothing_length;
   }
 
- private:
   sph::ExactRiemannSolution solution() const {
     return sph::ExactRiemannSolution({p_.left_density, 0, p_.left_pressure}, {p_.right_density, 0, p_.right_pressure}, p_.gamma);
   }
