@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "apps/plot.hpp"
+#include "apps/scenes/impact/impact_parameters.hpp"
 #include "apps/scenes/impact/impact_scenes.hpp"
 #include "geometry/lattice.hpp"
 #include "libsph/core/time_stepper.hpp"
@@ -45,11 +46,8 @@ class EvrardCollapseScene final : public Scene {
     p.add("gravitational_softening", p_.gravitational_softening, "R", "one M4 softening length for all particles (0: each particle's h)",
           sph::Range::non_negative());
     p.add("smoothing_length_factor", p_.smoothing_length_factor, "-", "eta of h = eta (m / rho)^(1/3)", sph::Range::closed(0.8, 2.0));
-    p.add("alpha", p_.alpha, "-", "artificial viscosity: linear coefficient", sph::Range::non_negative());
-    p.add("beta", p_.beta, "-", "artificial viscosity: quadratic coefficient", sph::Range::non_negative());
-    p.add("end_time", p_.end_time, "sqrt(R^3/GM)", "simulated time", sph::Range::positive());
-    p.add("output_interval", p_.output_interval, "sqrt(R^3/GM)", "time between particle outputs (0: first and last state only)",
-          sph::Range::non_negative());
+    declare_artificial_viscosity(p, p_.alpha, p_.beta);
+    declare_run_length(p, p_.end_time, p_.output_interval, "sqrt(R^3/GM)");
   }
 
   bool checkpoints() const override { return true; }  // the energy extremes are kept as state

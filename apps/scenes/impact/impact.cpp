@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "apps/plot.hpp"
+#include "apps/scenes/impact/impact_parameters.hpp"
 #include "apps/scenes/impact/impact_scenes.hpp"
 #include "geometry/lattice.hpp"
 #include "libsph/core/time_stepper.hpp"
@@ -57,13 +58,10 @@ class ImpactScene final : public Scene {
     p.add("weibull_m", p_.weibull_m, "-", "Weibull exponent m", sph::Range::positive());
     p.add("seed", p_.seed, "-", "seed of the flaw assignment", sph::Range::closed(0, 1e9));
     p.add("smoothing_length_ratio", p_.smoothing_length_ratio, "-", "h / dx (cubic spline M4 kernel)", sph::Range::closed(1.0, 2.5));
-    p.add("alpha", p_.alpha, "-", "artificial viscosity: linear coefficient", sph::Range::non_negative());
-    p.add("beta", p_.beta, "-", "artificial viscosity: quadratic coefficient", sph::Range::non_negative());
+    declare_artificial_viscosity(p, p_.alpha, p_.beta);
     p.add("experiment_largest_fragment", p_.experiment_largest_fragment, "-", "largest fragment's mass fraction in the experiment",
           {0, 1, true, false});
-    p.add("end_time", p_.end_time, "s", "simulated time", sph::Range::positive());
-    p.add("output_interval", p_.output_interval, "s", "time between particle outputs (0: first and last state only)",
-          sph::Range::non_negative());
+    declare_run_length(p, p_.end_time, p_.output_interval, "s");
   }
 
   bool checkpoints() const override { return true; }  // the flaws are drawn again from the seed

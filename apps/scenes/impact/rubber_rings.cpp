@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "apps/plot.hpp"
+#include "apps/scenes/impact/impact_parameters.hpp"
 #include "apps/scenes/impact/impact_scenes.hpp"
 #include "geometry/lattice.hpp"
 #include "libsph/core/time_stepper.hpp"
@@ -76,11 +77,8 @@ class RubberRingsScene final : public Scene {
     p.add("artificial_stress_factor", p_.artificial_stress_factor, "-", "epsilon of R = -epsilon sigma_A / rho^2",
           sph::Range::non_negative());
     p.add("smoothing_length_ratio", p_.smoothing_length_ratio, "-", "h / dx (cubic spline M4 kernel)", sph::Range::closed(1.0, 2.5));
-    p.add("alpha", p_.alpha, "-", "artificial viscosity: linear coefficient", sph::Range::non_negative());
-    p.add("beta", p_.beta, "-", "artificial viscosity: quadratic coefficient", sph::Range::non_negative());
-    p.add("end_time", p_.end_time, "-", "simulated time", sph::Range::positive());
-    p.add("output_interval", p_.output_interval, "-", "time between particle outputs (0: first and last state only)",
-          sph::Range::non_negative());
+    declare_artificial_viscosity(p, p_.alpha, p_.beta);
+    declare_run_length(p, p_.end_time, p_.output_interval, "-");
   }
 
   void check() const override {

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "apps/plot.hpp"
+#include "apps/scenes/impact/impact_parameters.hpp"
 #include "apps/scenes/impact/impact_scenes.hpp"
 #include "geometry/lattice.hpp"
 #include "libsph/core/time_stepper.hpp"
@@ -53,11 +54,8 @@ class SedovBlastScene final : public Scene {
     p.add("blast_radius", p_.blast_radius, "dx", "the energy goes to the particles within this many spacings of the centre",
           sph::Range::closed(0.5, 10));
     p.add("smoothing_length_factor", p_.smoothing_length_factor, "-", "eta of h = eta sqrt(m / rho)", sph::Range::closed(1.0, 2.5));
-    p.add("alpha", p_.alpha, "-", "artificial viscosity: linear coefficient", sph::Range::non_negative());
-    p.add("beta", p_.beta, "-", "artificial viscosity: quadratic coefficient", sph::Range::non_negative());
-    p.add("end_time", p_.end_time, "-", "simulated time", sph::Range::positive());
-    p.add("output_interval", p_.output_interval, "-", "time between particle outputs (0: first and last state only)",
-          sph::Range::non_negative());
+    declare_artificial_viscosity(p, p_.alpha, p_.beta);
+    declare_run_length(p, p_.end_time, p_.output_interval, "-");
   }
 
   void check() const override {

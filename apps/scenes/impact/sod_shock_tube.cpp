@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "apps/plot.hpp"
+#include "apps/scenes/impact/impact_parameters.hpp"
 #include "apps/scenes/impact/impact_scenes.hpp"
 #include "geometry/lattice.hpp"
 #include "libsph/core/time_stepper.hpp"
@@ -44,7 +45,7 @@ class SodShockTubeScene final : public Scene {
   void declare(sph::Parameters& p) override {
     p.add("resolution", p_.resolution, "-", "particles per unit length (dx = 1 / resolution, both sides)",
           sph::Range::closed(20, 20000));
-    p.add("end_time", p_.end_time, "-", "simulated time", sph::Range::positive());
+    declare_run_length(p, p_.end_time, p_.output_interval, "-");
     p.add("tube_half_length", p_.tube_half_length, "-", "the tube is [-L, L]", sph::Range::positive());
     p.add("dimension", p_.dimension, "-", "2: a slab periodic across; 3: a square bar periodic across both sides",
           sph::Range::closed(2, 3));
@@ -57,11 +58,8 @@ class SodShockTubeScene final : public Scene {
     p.add("right_pressure", p_.right_pressure, "-", "pressure for x > 0", sph::Range::positive());
     p.add("smoothing_length_ratio", p_.smoothing_length_ratio, "-", "h / dx (cubic spline M4 kernel)",
           sph::Range::closed(1.0, 2.5));
-    p.add("alpha", p_.alpha, "-", "artificial viscosity: linear coefficient (Monaghan 1992)", sph::Range::non_negative());
-    p.add("beta", p_.beta, "-", "artificial viscosity: quadratic coefficient", sph::Range::non_negative());
+    declare_artificial_viscosity(p, p_.alpha, p_.beta);
     p.add("epsilon", p_.epsilon, "-", "artificial viscosity: the epsilon h^2 of phi_ij's denominator", sph::Range::positive());
-    p.add("output_interval", p_.output_interval, "-", "time between particle outputs (0: first and last state only)",
-          sph::Range::non_negative());
   }
 
   void check() const override {

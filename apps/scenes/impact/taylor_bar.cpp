@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "apps/plot.hpp"
+#include "apps/scenes/impact/impact_parameters.hpp"
 #include "apps/scenes/impact/impact_scenes.hpp"
 #include "geometry/lattice.hpp"
 #include "libsph/core/time_stepper.hpp"
@@ -50,14 +51,11 @@ class TaylorBarScene final : public Scene {
     p.add("yield_strength", p_.yield_strength, "Pa", "von Mises yield strength Y0", sph::Range::positive());
     p.add("hardening_modulus", p_.hardening_modulus, "Pa", "linear hardening: Y = Y0 + H eps_p", sph::Range::non_negative());
     p.add("smoothing_length_ratio", p_.smoothing_length_ratio, "-", "h / dx (cubic spline M4 kernel)", sph::Range::closed(1.0, 2.5));
-    p.add("alpha", p_.alpha, "-", "artificial viscosity: linear coefficient", sph::Range::non_negative());
-    p.add("beta", p_.beta, "-", "artificial viscosity: quadratic coefficient", sph::Range::non_negative());
+    declare_artificial_viscosity(p, p_.alpha, p_.beta);
     p.add("xsph", p_.xsph, "-", "XSPH factor (0: off)", sph::Range::closed(0, 1));
     p.add("reference_length", p_.reference_length, "m", "final length of the reference solution", sph::Range::positive());
     p.add("reference_radius", p_.reference_radius, "m", "final mushroom radius of the reference solution", sph::Range::positive());
-    p.add("end_time", p_.end_time, "s", "simulated time", sph::Range::positive());
-    p.add("output_interval", p_.output_interval, "s", "time between particle outputs (0: first and last state only)",
-          sph::Range::non_negative());
+    declare_run_length(p, p_.end_time, p_.output_interval, "s");
   }
 
   bool checkpoints() const override { return true; }  // nothing kept outside the body
