@@ -20,8 +20,13 @@
 #include <random>
 #include <vector>
 
+#ifdef CARDIOSPH_HAVE_NANOFLANN
+#include <nanoflann.hpp>
+#endif
+
 #include "libsph/core/parallel.hpp"
 #include "geometry/lattice.hpp"
+#include "libsph/core/kd_tree.hpp"
 #include "libsph/impact/gravity.hpp"
 #include "libsph/impact/updated_lagrangian.hpp"
 
@@ -73,6 +78,63 @@ double particle_steps_per_second(std::size_t n, bool strength, bool damage, bool
   return double(particles) * steps / seconds_since(start);
 }
 
+#ifdef CARDIOSPH_HAVE_NANOFLANN
+// The same radius search (every point's neighbours within 2.4 dx on a jittered 3D lattice, one
+// thread, tree built anew) with Debian's nanoflann and with the library's k-d tree.
+struct Cloud {
+  const std::vector<Vec3>& points;
+  std::size_t kdtree_get_point_count() const { return points.size(); }
+  Real kdtree_get_pt(std::size_t i, std::size_t d) const { return points[i][int(d)]; }
+  template <class Box>
+  bool kdtree_get_bbox(Box&) const { return false; }
+};
+
+void radius_search_against_nanoflann() {
+  std::printf("radius search, 1 thread, all points within 2.4 dx (build + queries), seconds\n");
+  std::printf("%9s %12s %12s %12s %8s\n", "points", "pairs", "nanoflann", "sph::KdTree", "ratio");
+  for (const int side : {22, 46, 100}) {
+    std::mt19937_64 engine(3);
+    std::vector<Vec3> x;
+    const Real dx = Real(1);
+    for (int i = 0; i < side; ++i)
+      for (int j = 0; j < side; ++j)
+        for (int k = 0; k < side; ++k) {
+          Vec3 p{Real(i), Real(j), Real(k)};
+          for (int d = 0; d < 3; ++d) p[d] += Real(0.2) * (Real(double(engine() >> 11) * 0x1.0p-53) - Real(0.5));
+          x.push_back(dx * p);
+        }
+    const Real radius = Real(2.4) * dx;
+    sph::ThreadLimit one(1);
+    std::size_t pairs_nano = 0, pairs_own = 0;
+    auto start = std::chrono::steady_clock::now();
+    {
+      Cloud cloud{x};
+      using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<Real, Cloud>, Cloud, 3>;
+      Tree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(8));
+      tree.buildIndex();
+      std::vector<std::pair<unsigned, Real>> found;  // the adaptor's index type
+      nanoflann::SearchParams params;
+      params.sorted = false;
+      for (const auto& p : x) pairs_nano += tree.radiusSearch(p.data(), radius * radius, found, params) - 1;
+    }
+    const double nano = seconds_since(start);
+    start = std::chrono::steady_clock::now();
+    {
+      sph::KdTree<3> tree(x);
+      std::vector<sph::Index> found;
+      for (const auto& p : x) {
+        tree.radius_query(p, radius, found);
+        pairs_own += found.size() - 1;
+      }
+    }
+    const double own = seconds_since(start);
+    std::printf("%9zu %12zu %12.3f %12.3f %8.2f\n", x.size(), pairs_own, nano, own, own / nano);
+    if (pairs_nano != pairs_own) std::printf("  (pair counts differ: nanoflann %zu)\n", pairs_nano);
+    std::fflush(stdout);
+  }
+}
+#endif
+
 int main(int argc, char** argv) {
   std::size_t largest = 1000000;
   bool full_direct = false, steps_table = true, gravity_table = true;
@@ -98,6 +160,9 @@ int main(int argc, char** argv) {
       std::fflush(stdout);
     }
   }
+#ifdef CARDIOSPH_HAVE_NANOFLANN
+  if (steps_table) radius_search_against_nanoflann();
+#endif
   if (!gravity_table) return 0;
   std::printf("threads %zu; theta %g, quadrupole, leaf size %zu\n", sph::active_thread_count(), double(settings.theta), settings.leaf_size);
   std::printf("%9s %10s %10s %12s %10s %12s %10s %10s %14s\n", "n", "build+BH s", "2nd call s", "us/particle", "us/p/log2n",
