@@ -21,19 +21,13 @@
 
 namespace {
 
-sph::RunReport run(std::unique_ptr<cardiosph::Scene> scene, const std::vector<std::string>& assignments,
-                   const std::string& name) {
-  sph::Parameters parameters;
-  test::set_parameters(*scene, parameters, assignments);
-  return test::run_scene(*scene, name);
-}
-
-double at(const sph::RunReport& r, const std::string& key) { return r.results.at(key).get<double>(); }
+using test::run_scene;
+const auto at = test::result;
 
 TEST(ElectromechanicsValidation, MyocardiumCubeSettlesInEquilibriumAndConverges) {
   std::vector<double> ux;
   for (const long resolution : {8L, 12L, 16L}) {
-    const auto r = run(cardiosph::make_myocardium_cube_scene(), {"resolution=" + std::to_string(resolution)},
+    const auto r = run_scene(cardiosph::make_myocardium_cube_scene(), {"resolution=" + std::to_string(resolution)},
                        "cube" + std::to_string(resolution));
     const auto u = r.results.at("corner_displacement");
     ux.push_back(u[0].get<double>());
@@ -52,7 +46,7 @@ TEST(ElectromechanicsValidation, MyocardiumCubeSettlesInEquilibriumAndConverges)
 }
 
 TEST(ElectromechanicsValidation, LandProblemTwoApexAtTheDefaultResolution) {
-  const auto r = run(cardiosph::make_land_lv_scene(), {}, "land_lv");
+  const auto r = run_scene(cardiosph::make_land_lv_scene(), {}, "land_lv");
   const double endo = at(r, "apex_z_endo_mm"), epi = at(r, "apex_z_epi_mm"), mid = at(r, "apex_z_midwall_mm");
   std::cout << "land-lv problem 2: apex z endo " << endo << " (published -26.6, -26.9 to -26.4), epi " << epi
             << " (-28.3, -28.5 to -28.1), mid-wall " << mid << " (-27.3, -27.6 to -27.1); J in [" << at(r, "min_jacobian")
@@ -64,6 +58,20 @@ TEST(ElectromechanicsValidation, LandProblemTwoApexAtTheDefaultResolution) {
   EXPECT_LE(epi, -28.1);
   EXPECT_GE(mid, -27.6);
   EXPECT_LE(mid, -27.1);
+}
+
+// Problem 3 (inflation to 15 kPa and contraction at T_a = 60 kPa) at the scene's default dp = 1 mm
+// misses the 0.5 mm that it meets at dp = 0.75 mm (ElectromechanicsLong): a regression guard at about
+// 1.5x today's distance from the refined published solution (endo -12.35, epi -15.45 mm; Land et
+// al. 2015), measured +0.81 and +0.49 mm; README marks the row "not met".
+TEST(LandRegression, ProblemThreeApexAtTheDefaultResolution) {
+  const auto r = run_scene(cardiosph::make_land_lv_scene(), {"problem=3"}, "land_lv_p3_default");
+  const double endo = at(r, "apex_z_endo_mm") - -12.347, epi = at(r, "apex_z_epi_mm") - -15.452;
+  std::cout << "land-lv problem 3, dp 1: apex z endo " << at(r, "apex_z_endo_mm") << " (" << endo << " mm from -12.347), epi "
+            << at(r, "apex_z_epi_mm") << " (" << epi << " mm from -15.452); published bound 0.5 mm (not met at the endocardium); "
+            << "guard 1.2 and 0.75 mm; " << r.wall_time_s << " s\n";
+  EXPECT_LT(std::abs(endo), 1.2);
+  EXPECT_LT(std::abs(epi), 0.75);
 }
 
 // The potential-driven heart (Aliev-Panfilov, Nash-Panfilov tension, no cavity load, clamped base)
@@ -88,7 +96,7 @@ TEST(ElectromechanicsValidation, HeartOnTheThirdPartyMeshActivatesAndContracts) 
   // The same scene on the shipped biventricular mesh: ThreePacedBeatsReturnToRest.
   const std::string mesh = std::string(CARDIOSPH_SHARED_MESHES) + "/biventricular_heart.stl";
   if (!std::filesystem::exists(mesh)) GTEST_SKIP() << "third-party mesh not found: " << mesh;
-  const auto r = run(cardiosph::make_heart_scene(),
+  const auto r = run_scene(cardiosph::make_heart_scene(),
                      potential_driven({std::string("mesh=") + CARDIOSPH_SHARED_MESHES + "/biventricular_heart.stl", "dp=3",
                                        "relaxation_steps=20", "end_time=120", "output_interval=0"}),
                      "heart_shared");
@@ -101,7 +109,7 @@ TEST(ElectromechanicsValidation, HeartOnTheThirdPartyMeshActivatesAndContracts) 
 }
 
 TEST(ElectromechanicsValidation, ThreePacedBeatsReturnToRest) {
-  const auto r = run(cardiosph::make_heart_scene(), potential_driven({"preset=coarse", "beats=3", "output_interval=0"}), "heart_beats");
+  const auto r = run_scene(cardiosph::make_heart_scene(), potential_driven({"preset=coarse", "beats=3", "output_interval=0"}), "heart_beats");
   expect_sound_heart(r);
   const auto& end = r.results.at("end_of_beat");
   const double reference = at(r, "lv_reference_volume_mm3"), peak = at(r, "peak_active_tension_kPa");
@@ -123,29 +131,40 @@ TEST(ElectromechanicsValidation, ThreePacedBeatsReturnToRest) {
 }
 
 // One coarse beat of the default heart: Land tension from the ten Tusscher-Panfilov calcium, the
-// closed loop of Regazzoni et al. 2022, pericardial and base springs.
-TEST(ElectromechanicsValidation, CoarseBeatEjectsWithIsovolumicPhasesAndConservedBlood) {
-  const auto r = run(cardiosph::make_heart_scene(), {"preset=coarse", "beats=1", "output_interval=0"}, "heart_beat");
+// closed loop of Regazzoni et al. 2022, pericardial and base springs. A calibration check: T_ref,
+// the Purkinje speed, the arterial impedance and the base springs were tuned on this very beat to the
+// targets it is checked against (docs/electromechanics.md, "Calibration"; the heart's report lists
+// them under "calibration"), so passing says the calibration holds, not that the heart is validated.
+// The conservation checks beside them (blood volume, isovolumic phases, maps, pseudo-ECG) were not
+// tuned. The heart's validations against untuned data, the Frank-Starling sweep and the passive
+// filling against the human EDPVR, are in test_electromechanics_long.cpp.
+TEST(HeartCalibration, CoarseFirstBeatHoldsItsTargetsAndConservesBlood) {
+  const auto r = run_scene(cardiosph::make_heart_scene(), {"preset=coarse", "beats=1", "output_interval=0"}, "heart_beat");
   const double edv = at(r, "lv_end_diastolic_volume_mm3"), ef = at(r, "lv_ejection_fraction");
+  const double peak = at(r, "lv_peak_pressure_kPa"), activation = at(r, "total_activation_ms");
   const auto blood = r.results.at("total_blood_volume_mm3");
   const double drift = std::abs(blood[1].get<double>() - blood[0].get<double>()) / blood[0].get<double>();
   const auto isovolumic = r.results.at("isovolumic_volume_change_mm3");
-  std::cout << "coarse beat: total activation " << at(r, "total_activation_ms") << " ms, LV EDV " << edv << " mm^3, EF " << ef << ", peak "
-            << at(r, "lv_peak_pressure_kPa") << " kPa, EDP "
+  std::cout << "coarse beat: total activation " << activation << " ms (target 60-80), LV EDV " << edv << " mm^3, EF " << ef
+            << " (target 0.55-0.65), peak " << peak << " kPa (target 15-17: not met on this first beat; guard 18.25 +- 0.9), EDP "
             << at(r, "lv_end_diastolic_pressure_kPa") << " kPa; RV EF " << at(r, "rv_ejection_fraction") << ", peak "
             << at(r, "rv_peak_pressure_kPa") << " kPa; isovolumic volume change " << isovolumic << " mm^3; blood volume drift "
             << drift << "; J in [" << at(r, "min_jacobian") << ", " << at(r, "max_jacobian") << "], " << r.wall_time_s << " s\n";
   EXPECT_EQ(r.status, "completed");
-  // Bounds: the first beat of the coarse heart ejects within the healthy 55-65 % of its EDV
-  // (measured 62.2 %; the default resolution's converged beat, 62.3 %, is in README); its LV peak
-  // reaches the healthy 15 kPa and stays below 19.5 kPa (measured 18.25: a first beat is stronger
-  // than the converged one, 18.1 against 16.5 kPa at dp 2 mm, while the circulation settles from
-  // its starting pressures); the RV ejects.
+  // Calibration targets. The EF and the activation were tuned into their windows (measured 62.2 %
+  // and 74.4 ms). The first beat's LV peak overshoots the healthy 15-17 kPa while the circulation
+  // settles from its starting pressures (measured 18.25 kPa; the converged default beat, 16.5 kPa):
+  // guarded at today's value within 5 %, about 1.5x its change from one calibration step to the next.
   EXPECT_GT(ef, 0.55);
   EXPECT_LT(ef, 0.65);
-  EXPECT_GT(at(r, "lv_peak_pressure_kPa"), 15.0);
-  EXPECT_LT(at(r, "lv_peak_pressure_kPa"), 19.5);
+  EXPECT_NEAR(peak, 18.25, 0.9);
+  EXPECT_GE(activation, 60.0);
+  EXPECT_LE(activation, 80.0);
   EXPECT_GT(at(r, "rv_ejection_fraction"), 0.2);
+  // The report lists the calibrated parameters with this run's values (the defaults here).
+  const auto& calibration = r.results.at("calibration");
+  EXPECT_GE(calibration.size(), 10u);
+  for (const auto& c : calibration) EXPECT_EQ(c.at("value").get<double>(), c.at("calibrated").get<double>()) << c.at("parameter");
   // Isovolumic phases: while both valves of a ventricle are closed its volume moves by less than
   // 1 % of the LV EDV (C_c = 20 mm^3/kPa times the pressure change, about 0.25 mL here).
   EXPECT_LT(isovolumic[0].get<double>(), 0.01 * edv);
@@ -170,10 +189,6 @@ TEST(ElectromechanicsValidation, CoarseBeatEjectsWithIsovolumicPhasesAndConserve
   const double cell = sph::measure_action_potential(t, V, 0, 600).duration();
   const double apd = maps.at("apd90_ms").at("median").get<double>();
   const auto& ecg = r.results.at("ecg");
-  // The default Purkinje surrogate (stimulus_site = endocardium, from the LV apex): the ventricles
-  // activate within the 60-80 ms of Durrer et al. 1970 (measured 74.4 ms; apex pacing: 173 ms).
-  EXPECT_GE(at(r, "total_activation_ms"), 60.0);
-  EXPECT_LE(at(r, "total_activation_ms"), 80.0);
   std::cout << "APD90 median " << apd << " ms over " << maps.at("apd90_ms").at("count") << " particles (single cell " << cell
             << " ms); pseudo-ECG: " << ecg.at("samples") << " samples, QRS " << ecg.at("qrs_duration_ms")
             << " ms, peak-to-peak " << ecg.at("peak_to_peak_mV") << "\n";
@@ -184,22 +199,22 @@ TEST(ElectromechanicsValidation, CoarseBeatEjectsWithIsovolumicPhasesAndConserve
 }
 
 // The Durrer preset of the Purkinje surrogate (four endocardial sites, Durrer et al. 1970) with
-// transmural cell layers: the coarse heart activates within the 60-80 ms of the human ventricles
-// (Durrer et al. 1970, Circulation 41:899), and every layer is populated in both ventricles.
-// Measured 60.4 ms (the first 110 ms of the beat). The default (apex-started) surrogate is checked
-// against the same window in the coarse-beat test above.
-TEST(ElectromechanicsValidation, DurrerSitesActivateTheVentriclesWithinEightyMilliseconds) {
-  const auto r = run(cardiosph::make_heart_scene(),
+// transmural cell layers: every layer is populated in both ventricles, and the coarse heart
+// activates in 60.4 ms (the first 110 ms of the beat). A calibration check: the surrogate's speed was
+// tuned to the 60-80 ms window of Durrer et al. 1970 (Circulation 41:899) with the apex start, and
+// these sites use the same speed; guarded within 3 ms of today's value, with the window printed.
+TEST(HeartCalibration, DurrerSitesActivationTime) {
+  const auto r = run_scene(cardiosph::make_heart_scene(),
                      {"preset=coarse", "early_sites=durrer", "cell_heterogeneity=transmural", "end_time=260", "output_interval=0"},
                      "heart_durrer");
   ASSERT_TRUE(r.results.contains("total_activation_ms")) << "not every particle activated";
   const double activation = at(r, "total_activation_ms");
   std::cout << "Durrer sites: " << r.results.at("early_activation_sites").size() << " sites, "
-            << at(r, "stimulated_particles") << " particles paced, total activation " << activation << " ms; cell groups "
-            << r.results.at("cell_groups") << ", " << r.wall_time_s << " s\n";
+            << at(r, "stimulated_particles") << " particles paced, total activation " << activation
+            << " ms (Durrer et al. 1970: 60-80 ms; guard 60.4 +- 3); cell groups " << r.results.at("cell_groups") << ", "
+            << r.wall_time_s << " s\n";
   EXPECT_EQ(r.results.at("early_activation_sites").size(), 4u);
-  EXPECT_GE(activation, 60.0);
-  EXPECT_LE(activation, 80.0);
+  EXPECT_NEAR(activation, 60.4, 3.0);
   for (const char* group : {"endo lv", "mid lv", "epi lv", "endo rv", "mid rv", "epi rv"})
     EXPECT_GT(r.results.at("cell_groups").at(group).at("particles").get<int>(), 0) << group;
 }
@@ -207,7 +222,7 @@ TEST(ElectromechanicsValidation, DurrerSitesActivateTheVentriclesWithinEightyMil
 // The open-loop option: the filled LV ejects into a three-element Windkessel, whose pressure rises
 // above its start.
 TEST(ElectromechanicsValidation, WindkesselLoadedHeartEjectsAgainstARisingPressure) {
-  const auto r = run(cardiosph::make_heart_scene(),
+  const auto r = run_scene(cardiosph::make_heart_scene(),
                      {"preset=coarse", "circulation_model=windkessel", "end_time=450", "output_interval=0"}, "heart_windkessel");
   std::cout << "windkessel: LV EDV " << at(r, "lv_end_diastolic_volume_mm3") << " (unloaded " << at(r, "lv_reference_volume_mm3")
             << "), ESV " << at(r, "lv_end_systolic_volume_mm3") << ", peak pressure " << at(r, "lv_peak_pressure_kPa") << " kPa, "
@@ -231,7 +246,7 @@ TEST(ElectromechanicsValidation, StiffAndExtremeHeartEitherCompletesOrStopsWithA
   };
   for (const auto& c : cases) {
     try {
-      const auto r = run(cardiosph::make_heart_scene(), c, "heart_extreme");
+      const auto r = run_scene(cardiosph::make_heart_scene(), c, "heart_extreme");
       std::cout << c[1] << ": completed, J in [" << at(r, "min_jacobian") << ", " << at(r, "max_jacobian") << "], LV EF "
                 << at(r, "lv_ejection_fraction") << ", LV peak " << at(r, "lv_peak_pressure_kPa") << " kPa, " << r.wall_time_s
                 << " s\n";

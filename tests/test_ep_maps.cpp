@@ -60,9 +60,11 @@ TEST(PseudoEcg, PrescribedFrontMatchesTheSolidAngleReduction) {
   for (std::size_t e = 0; e < electrodes.size(); ++e) {
     const double reference = reduced_ecg(dVdx, 10, 0, 2, 0, 2, electrodes[e].position, scale, D, 200000);
     const double error = std::abs(phi[e] - reference) / std::abs(reference);
-    std::printf("electrode %-6s: phi %.6g mV, solid-angle reduction %.6g mV, relative error %.2e\n",
+    std::printf("electrode %-6s: phi %.6g mV, solid-angle reduction %.6g mV, relative error %.2e (bound 1.2e-3)\n",
                 electrodes[e].name.c_str(), phi[e], reference, error);
-    EXPECT_LT(error, 5e-3) << electrodes[e].name;
+    // Measured 9.3e-6 to 4.1e-4 over the four electrodes (the SPH gradient and quadrature of the
+    // front on the lattice); bound 1.2e-3, three times the largest.
+    EXPECT_LT(error, 1.2e-3) << electrodes[e].name;
   }
   // A front moving towards an electrode (here: along +x) shows positive there, negative behind.
   EXPECT_GT(phi[0], 0);
@@ -155,10 +157,10 @@ TEST(ActionPotentialMaps, PlaneWaveSpeedApdAndPseudoEcg) {
   const double phi = ecg.potentials(V, monodomain.diffusion_tensor(), body.position)[0];
   const double reference = reduced_ecg(dVdx, 20, 0, 1, 0, 1, Vec3(25, 0.5, 0.5), scale, D, 80000);
   const double ecg_error = std::abs(phi - reference) / std::abs(reference);
-  std::printf("t = %.1f ms, front at 10 mm: pseudo-ECG %.5g mV, reduction %.5g mV, relative error %.2e\n", t, phi,
+  std::printf("t = %.1f ms, front at 10 mm: pseudo-ECG %.5g mV, reduction %.5g mV, relative error %.2e (bound 7e-5)\n", t, phi,
               reference, ecg_error);
   EXPECT_GT(phi, 0);
-  EXPECT_LT(ecg_error, 0.02);
+  EXPECT_LT(ecg_error, 7e-5);  // measured 2.3e-5
 
   double lowest_before_activation = -80;  // the resting state, V at t = 0
   for (; t < 600; t += dt) {
@@ -181,7 +183,9 @@ TEST(ActionPotentialMaps, PlaneWaveSpeedApdAndPseudoEcg) {
 
   // Conduction velocity in the middle third against the Nagumo front speed of the cubic term,
   // sqrt(k D / (2 T)) (1 - 2a) with T = 12.9 ms the model's time scale (the recovery variable,
-  // eps0 = 0.002, slows the front little).
+  // eps0 = 0.002, slows the front little). Measured -0.44 %; bound 1.3 %. The APD90 map against the
+  // offline APD of the same trace: the same interpolation, measured equal to the last bit; bound
+  // 1e-9 ms, a few hundred ulp of 322 ms, for a compiler that contracts the two differently.
   const double nagumo = std::sqrt(8 * double(D) / (2 * 12.9)) * (1 - 2 * 0.15);
   const auto* maps = monodomain.maps();
   ASSERT_NE(maps, nullptr);
@@ -200,11 +204,12 @@ TEST(ActionPotentialMaps, PlaneWaveSpeedApdAndPseudoEcg) {
   std::sort(middle_cv.begin(), middle_cv.end());
   std::sort(middle_apd.begin(), middle_apd.end());
   const double cv_median = middle_cv[middle_cv.size() / 2];
-  std::printf("conduction velocity %.4f mm/ms (Nagumo %.4f); APD90 at x = 10.125 mm %.4f ms (offline from its trace "
-              "%.4f); lowest dV/dt_max %.2f mV/ms\n",
-              cv_median, nagumo, double(apd[m]), offline_apd, lowest_upstroke);
-  EXPECT_NEAR(cv_median, nagumo, 0.02 * nagumo);
-  EXPECT_NEAR(apd[m], offline_apd, 1e-6);
+  std::printf("conduction velocity %.4f mm/ms (Nagumo %.4f, %+.2f %%, bound 1.3 %%); APD90 at x = 10.125 mm %.4f ms (offline "
+              "from its trace %.4f, difference %.1e ms); lowest dV/dt_max %.2f mV/ms\n",
+              cv_median, nagumo, 100 * (cv_median / nagumo - 1), double(apd[m]), offline_apd, double(apd[m]) - offline_apd,
+              lowest_upstroke);
+  EXPECT_NEAR(cv_median, nagumo, 0.013 * nagumo);
+  EXPECT_NEAR(apd[m], offline_apd, 1e-9);
   EXPECT_EQ(body.field(maps->beats_field())[m], 1);
   EXPECT_GT(middle_apd.front(), 0);  // every middle particle repolarised
   EXPECT_GT(lowest_upstroke, 1);

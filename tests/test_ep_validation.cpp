@@ -3,8 +3,10 @@
 // Bounds are stated in each test and the measured values printed.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 #include "apps/scenes/electrophysiology/ep_scenes.hpp"
 #include "libsph/reaction/cell_models.hpp"
@@ -16,13 +18,17 @@ using test::run_scene;
 
 #if CARDIOSPH_HAVE_CVODE
 // One paced beat of each model, every scheme on the step ladder 0.01 ms x 2^k up to 163.84 ms.
-//  - Accuracy: the QSS schemes at 0.01 ms are within 0.5 % of the CVODE APD90 and 0.5 mV RMS.
+//  - Accuracy: the QSS schemes at 0.01 ms are within 0.05 % of the CVODE APD90 (measured 0.005 %
+//    to 0.017 % over the models and both schemes) and within an RMS voltage difference of 0.025 mV
+//    with the splitting scheme (measured 0.0034 to 0.0076 mV) and 0.25 mV with Rush-Larsen
+//    (measured 0.0088 to 0.081 mV, the largest on ten Tusscher-Panfilov).
 //  - Stiffness: at the first rung at least 20 times the forward-Euler limit (from the Jacobian
 //    along the reference), the QSS schemes stay bounded; the splitting scheme stays bounded at
-//    every rung. For the stiff ten Tusscher-Panfilov model, APD90 there is within 5 % of CVODE.
+//    every rung. For the stiff ten Tusscher-Panfilov model, APD90 there is within 2.5e-5 of CVODE
+//    with the splitting scheme (measured 8e-6) and 1.3e-3 with Rush-Larsen (measured 4.3e-4).
 //    For the two-variable models the explicit limit is set by the action potential itself (AP
 //    upstroke and plateau for Aliev-Panfilov: 3.8 ms; 20 times that is a third of the APD), so
-//    5 % of APD90 at 20 times the limit is beyond any first-order splitting: printed, not asserted.
+//    their APD90 at 20 times the limit is beyond any first-order splitting: printed, not asserted.
 TEST(EpValidation, CellSchemesAgainstCvode) {
   cardiosph::CellParameters p;
   p.end_time = 1000;
@@ -42,15 +48,18 @@ TEST(EpValidation, CellSchemesAgainstCvode) {
       const bool stiff_stable = s.at("stable")[stiff_rung].get<bool>();
       const auto& stiff_error = s.at("apd90_error_ms")[stiff_rung];
       const double stiff_relative = stiff_error.is_number() ? stiff_error.get<double>() / apd : INFINITY;
-      std::printf("%s %s: APD90 %.2f ms (CVODE), at 0.01 ms error %.3f%% and RMS %.3g mV (bounds 0.5%%, 0.5 mV); "
-                  "explicit limit %.3g ms, at %.3g ms (%.0fx): %s, APD90 error %.2f%%\n",
-                  name.c_str(), scheme, apd, 100 * error0 / apd, rms0, limit, steps[stiff_rung].get<double>(),
-                  steps[stiff_rung].get<double>() / limit, stiff_stable ? "bounded" : "UNBOUNDED", 100 * stiff_relative);
-      EXPECT_LT(error0 / apd, 0.005) << name << " " << scheme;
-      EXPECT_LT(rms0, 0.5) << name << " " << scheme;
+      const bool splitting = std::string(scheme) == "rbr_qss";
+      const double rms_bound = splitting ? 0.025 : 0.25, stiff_bound = splitting ? 2.5e-5 : 1.3e-3;
+      std::printf("%s %s: APD90 %.2f ms (CVODE), at 0.01 ms error %.4f%% and RMS %.3g mV (bounds 0.05%%, %g mV); "
+                  "explicit limit %.3g ms, at %.3g ms (%.0fx): %s, APD90 error %.4f%%%s\n",
+                  name.c_str(), scheme, apd, 100 * error0 / apd, rms0, rms_bound, limit, steps[stiff_rung].get<double>(),
+                  steps[stiff_rung].get<double>() / limit, stiff_stable ? "bounded" : "UNBOUNDED", 100 * stiff_relative,
+                  name == "ten_tusscher_panfilov_2006" ? (splitting ? " (bound 0.0025%)" : " (bound 0.13%)") : " (printed, not asserted)");
+      EXPECT_LT(std::abs(error0) / apd, 5e-4) << name << " " << scheme;
+      EXPECT_LT(rms0, rms_bound) << name << " " << scheme;
       EXPECT_TRUE(stiff_stable) << name << " " << scheme;
       if (name == "ten_tusscher_panfilov_2006") {
-        EXPECT_LT(stiff_relative, 0.05) << scheme;
+        EXPECT_LT(std::abs(stiff_relative), stiff_bound) << scheme;
       }
     }
     for (std::size_t k = 0; k < steps.size(); ++k)
@@ -60,8 +69,9 @@ TEST(EpValidation, CellSchemesAgainstCvode) {
 #endif
 
 // SPHinXsys depolarization case at its resolution (dp = 0.02): the observer's upstroke time and
-// V(1) against the converged reference of this code (bounds 2 % and 0.02), and the plateau against
-// the SPHinXsys regression value 0.975 (bound 0.005).
+// V(1) against the converged reference of this code (measured 0.65 % and 0.0025; bounds 2 % and
+// 0.0075), and the plateau against the SPHinXsys regression value 0.975, given to three decimals
+// (measured 0.97516; bound 5e-4, three times the difference and the rounding of the value).
 TEST(EpValidation, DepolarizationObserver) {
   const auto r = run_scene(*cardiosph::make_depolarization_scene(), "depolarization");
   const double up = r.results.at("observer_upstroke_time").get<double>();
@@ -69,36 +79,43 @@ TEST(EpValidation, DepolarizationObserver) {
   const double plateau = r.results.at("observer_plateau").get<double>();
   const double up_error = r.errors.at("upstroke_time_relative").get<double>();
   const double at_1_error = r.errors.at("potential_at_1_abs").get<double>();
-  std::printf("depolarization dp 0.02: upstroke %.4f (error %.2f%%), V(1) %.4f (error %.4f), plateau %.4f "
-              "(SPHinXsys 0.975)\n", up, 100 * up_error, at_1, at_1_error, plateau);
+  std::printf("depolarization dp 0.02: upstroke %.4f (error %.2f%%, bound 2%%), V(1) %.4f (error %.4f, bound 0.0075), plateau "
+              "%.5f (SPHinXsys 0.975, difference %+.1e, bound 5e-4)\n",
+              up, 100 * up_error, at_1, at_1_error, plateau, plateau - 0.975);
   EXPECT_LT(up_error, 0.02);
-  EXPECT_LT(at_1_error, 0.02);
-  EXPECT_NEAR(plateau, 0.975, 0.005);
+  EXPECT_LT(at_1_error, 0.0075);
+  EXPECT_NEAR(plateau, 0.975, 5e-4);
 }
 
-// Niederer et al. 2011 slab at dx = 0.5 mm, dt = 0.05 ms: every point activated, P1 next to the
-// stimulus first, and the far corner P8 within the published spread at this resolution (the mean
-// +- one standard deviation over the 11 codes, 117.86 +- 36.11 ms). (The APD map against the single
-// cell is checked on the cable below, which repolarises in a fifth of the slab's time.)
+// Niederer et al. 2011 slab at dx = 0.5 mm, dt = 0.05 ms (the scene's default): every point
+// activated, P1 next to the stimulus first, and the far corner P8 within the published spread at
+// this resolution, the mean +- one standard deviation over the 11 codes, 117.86 +- 36.11 ms. The
+// spread was published at dt = 0.01 ms; this code's P8 moves by 0.8 ms between the two steps
+// (126.5 ms at 0.05, 127.3 ms at 0.01: docs/electrophysiology.md, the dt table), 2 % of the standard
+// deviation, so the step does not decide where P8 lies in the spread. The spread (+-31 %) is wider
+// than three times the measured distance from the mean (8.7 ms), and is the bound. (The APD map
+// against the single cell is checked on the cable below, which repolarises in a fifth of the slab's
+// time.)
 TEST(EpValidation, NiedererSlabCoarse) {
   const auto r = run_scene(*cardiosph::make_niederer_slab_scene(), "niederer");
   const auto& a = r.results.at("activation_ms");
+  const std::array<const char*, 9> points{"P1", "P2", "P3", "P4", "P5", "P6", "P7", "P8", "P9"};
   std::printf("niederer-slab dx 0.5: ");
-  for (int p = 1; p <= 9; ++p) std::printf("P%d %.1f ", p, a.at("P" + std::to_string(p)).get<double>());
-  std::printf("ms\n");
-  for (int p = 1; p <= 9; ++p) EXPECT_GT(a.at("P" + std::to_string(p)).get<double>(), 0) << "P" << p;
+  for (const char* point : points) std::printf("%s %.1f ", point, a.at(point).get<double>());
+  const double p8 = a.at("P8").get<double>();
+  std::printf("ms; P8 %+.1f ms from the published mean (bound: one standard deviation, 36.11 ms)\n", p8 - 117.86);
+  for (const char* point : points) EXPECT_GT(a.at(point).get<double>(), 0) << point;
   EXPECT_LT(a.at("P1").get<double>(), 3);
   EXPECT_LT(a.at("P9").get<double>(), a.at("P8").get<double>());
-  const double p8 = a.at("P8").get<double>();
   EXPECT_GT(p8, 117.86 - 36.11);
   EXPECT_LT(p8, 117.86 + 36.11);
 }
 
 // The cable (10 x 0.5 x 0.5 mm, dx 0.25 mm) under two S1-S2 blocks (two S1 at 600 ms, S2 at 450
 // and 350 ms): both S2 captured, APD and CV fall with the diastolic interval (restitution), and
-// the APD of each S2 beat at the middle lies within 3 % of the single cell's under the same pulses.
-// The APD90 map: every particle has repolarised by the end, and the map's median (the last beat,
-// the S2 at 350 ms) lies within 3 % of the single cell's last beat.
+// the APD of each S2 beat at the middle lies within 3 % of the single cell's under the same pulses
+// (measured 0.97 %). The APD90 map: every particle has repolarised by the end, and the map's median
+// (the last beat, the S2 at 350 ms) lies within 3 % of the single cell's last beat (measured +1.0 %).
 TEST(EpValidation, CableRestitutionAgainstTheSingleCell) {
   cardiosph::CableParameters parameters;
   parameters.pacing.period = 600;

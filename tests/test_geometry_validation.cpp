@@ -27,13 +27,15 @@ TEST(GeometryValidation, LvEllipsoidVolumeAndFibreAngleAtTheDefaultSpacing) {
   const double volume_error = r["volume_relative_error"];
   const double mad = r["fiber_angle_mad_deg"];
   std::cout << "[ measured ] LV ellipsoid dp = 0.5 mm: " << r["particles"] << " particles, volume error " << volume_error
-            << " (bound 0.01), volume spread " << r["density_spread"] << ", fibre angle MAD " << mad
+            << " (bound 0.01), volume spread " << r["density_spread"] << " (bound 0.011), fibre angle MAD " << mad
             << " deg (bound 3) over " << r["fiber_check_particles"] << " particles, largest " << r["fiber_angle_max_deg"]
             << " deg\n";
-  // Against the closed-form wall volume: the mesh itself is 0.02 % short of it.
+  // Against the closed-form wall volume (the mesh itself is 0.02 % short of it): measured -0.58 %,
+  // bound 1 %. Fibre angle against the prescribed linear law: measured 1.91 deg, bound 3 deg.
+  // Spread of the particle volumes after the relaxation: measured 0.0038, bound 0.011.
   EXPECT_LT(std::abs(volume_error), 0.01);
   EXPECT_LT(mad, 3.0);
-  EXPECT_LT(double(r["density_spread"]), 0.02);
+  EXPECT_LT(double(r["density_spread"]), 0.011);
 }
 
 TEST(GeometryValidation, SharedBiventricularHeartYieldsLabelledParticlesAndFibres) {
@@ -43,11 +45,12 @@ TEST(GeometryValidation, SharedBiventricularHeartYieldsLabelledParticlesAndFibre
   const auto report = run_particles({"mesh=" + mesh, "dp=1.5", "relaxation_steps=30"}, "shared_heart");
   const auto& r = report.results;
   std::cout << "[ measured ] shared heart dp = 1.5 mm, 30 relaxation steps: " << r["particles"] << " particles, volume error "
-            << r["volume_relative_error"] << " (bound 0.01), labels " << r["labelled"] << " by " << r["label_method"] << '\n';
+            << r["volume_relative_error"] << " (bound 0.008), labels " << r["labelled"] << " by " << r["label_method"] << '\n';
   EXPECT_EQ(r["label_method"], "geometric rule");
   for (const char* label : {"epicardium", "lv_endocardium", "rv_endocardium", "base"})
     EXPECT_GT(int(r["labelled"][label]), 0) << label;
-  EXPECT_LT(std::abs(double(r["volume_relative_error"])), 0.01);
+  // Against the volume enclosed by the surface mesh: measured -0.25 %, bound 0.8 %.
+  EXPECT_LT(std::abs(double(r["volume_relative_error"])), 0.008);
   EXPECT_FALSE(r.contains("fiber_angle_mad_deg"));  // no analytic reference for this mesh
 }
 

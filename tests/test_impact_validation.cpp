@@ -1,9 +1,12 @@
 // The impact family against references: Sod's shock tube against the exact Riemann solution, at the
-// default resolution (bound: errors.density_l1 below 5 %, the bound) and at half of it, for
+// default resolution (bound: errors.density_l1 below the 5 % asked, measured 1.82 %) and at half of it, for
 // the order of convergence of the L1 density error; strength on Gray, Monaghan & Swift's oscillating
-// plate (period against thin-plate theory) and their colliding rings (with and without artificial stress).
+// plate (period against thin-plate theory) and their colliding rings (with and without artificial
+// stress); the Taylor bar, Evrard's collapse, the Sedov blast, and the regression guard of the
+// basalt-sphere impact (ImpactRegression), whose largest fragment misses the experiment's.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <cmath>
@@ -30,24 +33,24 @@ TEST(ImpactValidation, SodShockTubeConvergesToTheExactSolution) {
   const auto r = test::run_scene(*cardiosph::make_sod_shock_tube_scene(p), "sod");
   const double rho_coarse = error(coarse, "density_l1"), rho = error(r, "density_l1");
   const double order = std::log2(rho_coarse / rho);
-  std::printf("[ measured ] sod-shock-tube: density L1 %.4f at %ld per unit length (%.1f s), %.4f at %ld (%.1f s): order %.2f; "
-              "velocity L1 %.4f, pressure L1 %.4f; energy change %.2e\n",
+  std::printf("[ measured ] sod-shock-tube: density L1 %.4f at %ld per unit length (%.1f s), %.4f at %ld (%.1f s; bound 0.05): order "
+              "%.2f; velocity L1 %.4f, pressure L1 %.4f; energy change %.2e (bound 1.6e-5)\n",
               rho_coarse, fine / 2, coarse.wall_time_s, rho, fine, r.wall_time_s, order, error(r, "velocity_l1"),
               error(r, "pressure_l1"), r.results.at("energy_change_relative").get<double>());
-  EXPECT_LT(rho, 0.05);  // the bound at the default resolution
+  EXPECT_LT(rho, 0.05);  // the bound asked at the default resolution (measured 1.82 %)
   EXPECT_LT(rho, rho_coarse);  // it converges
-  // Total energy: the scheme conserves it to the time-integration error (bound 1e-3).
-  EXPECT_LT(std::abs(r.results.at("energy_change_relative").get<double>()), 1e-3);
+  // Total energy: the scheme conserves it to the time-integration error (measured -5.4e-6, bound 1.6e-5).
+  EXPECT_LT(std::abs(r.results.at("energy_change_relative").get<double>()), 1.6e-5);
 }
 
 // The 3D bar (8 x 8 rows, periodic across both sides) at 50 per unit length: the same method in
-// three dimensions, density L1 below the 5 % (measured 3.85 %; 2.43 % at 100, 1.73 % at 200).
+// three dimensions, density L1 below the 5 % asked (measured 3.85 %; 2.43 % at 100, 1.73 % at 200).
 TEST(ImpactValidation, SodShockTubeInThreeDimensions) {
   cardiosph::SodShockTubeParameters p;
   p.dimension = 3;
   p.resolution = 50;
   const auto r = test::run_scene(*cardiosph::make_sod_shock_tube_scene(p), "sod_3d");
-  std::printf("[ measured ] sod-shock-tube in 3D at 50 per unit length: density L1 %.4f, velocity L1 %.4f, pressure L1 %.4f, %.1f s\n",
+  std::printf("[ measured ] sod-shock-tube in 3D at 50 per unit length: density L1 %.4f (bound 0.05), velocity L1 %.4f, pressure L1 %.4f, %.1f s\n",
               error(r, "density_l1"), error(r, "velocity_l1"), error(r, "pressure_l1"), r.wall_time_s);
   EXPECT_LT(error(r, "density_l1"), 0.05);
 }
@@ -117,7 +120,7 @@ TEST(ImpactValidation, OscillatingPlatePeriodMatchesThinPlateTheory) {
   double amplitude = 0, seconds = 0;
   const double period = plate_period(5, true, amplitude, seconds);
   std::printf("[ measured ] oscillating plate, updated-Lagrangian SPH, 5 across, artificial stress: period %.4f s (thin plate %.4f s, "
-              "%+.1f %%), tip amplitude %.4f m, %.1f s\n",
+              "%+.1f %%; bound: above it, by less than 30 %%), tip amplitude %.4f m, %.1f s\n",
               period, reference, 100 * (period / reference - 1), amplitude, seconds);
   // Bound 30 %: five particles across the plate. The error falls with resolution (+25.7 % at 5
   // across, +12.9 % at 10, measured), as the total-Lagrangian beam's does with the nodal quadrature
@@ -154,32 +157,39 @@ TEST(ImpactValidation, RubberRingsBounceWithArtificialStressAndTearWithout) {
 }  // namespace
 
 // Taylor's copper bar (32.4 mm, radius 3.2 mm, 227 m/s onto a rigid frictionless wall, von Mises with
-// linear hardening) at 3 particles across the radius: final length and mushroom radius against the
-// finite-element values (21.47 mm, 7.12 mm). Bound 5 % on each: the coarse bar (about 2,000 particles)
-// and the artificial viscosity's share (docs/impact.md); measured at resolutions 3, 4, 5: length +1.6,
-// +0.7, +2.0 %, radius +0.4, -1.6, +3.9 %. The energy is conserved to the time integration.
+// linear hardening) at 3 and 2 particles across the radius: final length and mushroom radius against
+// the finite-element values (21.47 mm, 7.12 mm). The artificial viscosity (alpha 0.5, beta 1) was
+// chosen from runs at resolution 3 (docs/impact.md), so the test also runs the coarser bar, which
+// played no part in that choice. Bound 5 % on each error at both (measured at 3: length +1.6 %,
+// radius +0.4 %; at 2: -0.4 %, +3.2 %; at 4 and 5, not run here: +0.7 %, -1.5 % and +2.0 %, +4.0 %):
+// three times the largest length error, 1.6 times the largest radius error. The energy is conserved to the time integration (measured 2.1e-4 at 3 and 3.1e-4
+// at 2, bound 6e-4).
 namespace {
 
 TEST(ImpactValidation, TaylorBarFinalShapeMatchesTheFiniteElementReference) {
-  cardiosph::TaylorBarParameters p;
-  p.resolution = 3;
-  const auto r = test::run_scene(*cardiosph::make_taylor_bar_scene(p), "taylor_bar");
-  const double length = error(r, "final_length_relative"), radius = error(r, "mushroom_radius_relative");
-  const double energy = r.results.at("energy_change_relative").get<double>();
-  std::printf("[ measured ] taylor-bar, 3 across the radius: final length %.2f mm (%+.1f %%), mushroom radius %.2f mm (%+.1f %%), "
-              "largest plastic strain %.2f, energy change %.1e, %.1f s\n",
-              1e3 * r.results.at("final_length").get<double>(), 100 * length, 1e3 * r.results.at("mushroom_radius").get<double>(),
-              100 * radius, r.results.at("largest_plastic_strain").get<double>(), energy, r.wall_time_s);
-  EXPECT_LT(std::abs(length), 0.05);
-  EXPECT_LT(std::abs(radius), 0.05);
-  EXPECT_LT(std::abs(energy), 1e-3);
-  EXPECT_LT(r.results.at("kinetic_energy_left").get<double>(), 0.01);  // the bar has come to rest
+  for (const long resolution : {3L, 2L}) {
+    cardiosph::TaylorBarParameters p;
+    p.resolution = resolution;
+    const auto r = test::run_scene(*cardiosph::make_taylor_bar_scene(p), "taylor_bar_" + std::to_string(resolution));
+    const double length = error(r, "final_length_relative"), radius = error(r, "mushroom_radius_relative");
+    const double energy = r.results.at("energy_change_relative").get<double>();
+    std::printf("[ measured ] taylor-bar, %ld across the radius: final length %.2f mm (%+.1f %%), mushroom radius %.2f mm (%+.1f %%), "
+                "bounds 5 %%; largest plastic strain %.2f, energy change %.1e (bound 6e-4), %.1f s\n",
+                resolution, 1e3 * r.results.at("final_length").get<double>(), 100 * length,
+                1e3 * r.results.at("mushroom_radius").get<double>(), 100 * radius, r.results.at("largest_plastic_strain").get<double>(),
+                energy, r.wall_time_s);
+    EXPECT_LT(std::abs(length), 0.05) << resolution;
+    EXPECT_LT(std::abs(radius), 0.05) << resolution;
+    EXPECT_LT(std::abs(energy), 6e-4) << resolution;
+    EXPECT_LT(r.results.at("kinetic_energy_left").get<double>(), 0.01) << resolution;  // the bar has come to rest
+  }
 }
 
 }  // namespace
 
 // Evrard's collapse at 2,000 particles through the bounce (t = 1.3): kinetic + thermal + potential
-// energy conserved within 1 % (the bound on errors.energy_conservation_relative). The
+// energy conserved within 8e-4 (measured 2.7e-4; the 1 % asked of errors.energy_conservation_relative
+// is far above what the scheme does, and would not see it lose a tenth of that). The
 // extremes are printed beside a 1D Lagrangian solution of the same problem (docs/impact.md: kinetic
 // maximum 0.451 at t = 0.88, thermal maximum 1.760 at 1.07, potential minimum -2.546 at 1.05); at this
 // resolution the collapse is slower and shallower than the 1D limit.
@@ -192,36 +202,43 @@ TEST(ImpactValidation, EvrardCollapseConservesEnergy) {
   const auto r = test::run_scene(*cardiosph::make_evrard_collapse_scene(p), "evrard");
   auto result = [&](const char* key) { return r.results.at(key).get<double>(); };
   const double drift = error(r, "energy_conservation_relative");
-  std::printf("[ measured ] evrard-collapse, %ld particles: energy conserved to %.2e; kinetic maximum %.3f (1D 0.451), thermal maximum "
+  std::printf("[ measured ] evrard-collapse, %ld particles: energy conserved to %.2e (bound 8e-4); kinetic maximum %.3f (1D 0.451), thermal maximum "
               "%.3f at t = %.2f (1D 1.760 at 1.07), potential minimum %.3f at t = %.2f (1D -2.546 at 1.05), initial potential %.4f "
               "(continuum -0.6667), %.1f s\n",
               p.particles, drift, result("peak_kinetic_energy"), result("peak_thermal_energy"), result("peak_thermal_time"),
               result("lowest_potential_energy"), result("lowest_potential_time"), result("initial_potential_energy"), r.wall_time_s);
-  EXPECT_LT(drift, 0.01);
-  EXPECT_NEAR(result("initial_potential_energy"), -2.0 / 3.0, 0.02);  // softening and sampling of the 1/r profile
+  EXPECT_LT(drift, 8e-4);
+  // Softening and sampling of the 1/r profile: measured 0.0072 above the continuum's -2/3, bound 0.02.
+  EXPECT_NEAR(result("initial_potential_energy"), -2.0 / 3.0, 0.02);
   EXPECT_GT(result("peak_thermal_energy"), 1.0);  // the collapse has bounced: most of the infall's energy is heat
 }
 
-// The basalt-sphere impact at 8 particles across the target's radius (the projectile is one
-// particle): it completes, damage spreads through most of the target, the energy is conserved,
-// and the largest fragment is printed against the experiment's 0.31 (Nakamura & Fujiwara 1991) with
-// the bound 0.2: SPH's largest fragment depends on the resolution and the flaws' seed (docs/impact.md).
-TEST(ImpactValidation, BasaltSphereImpactFragmentsTheTarget) {
+// The basalt-sphere impact (Nakamura & Fujiwara 1991) at 10 particles across the target's radius:
+// it completes, damage spreads through most of the target and the energy is conserved (measured
+// 1.3e-4, bound 4e-4). The code misses the experiment: the largest fragment is 0.22 of
+// the target here against the experiment's 0.31 (0.206 at the default 15 across, 28 s, which the
+// suite cannot afford; 0.266 at 8, 0.285 at 12: SPH's largest fragment depends on the resolution and
+// the flaws' seed, docs/impact.md). A regression guard: |fraction - 0.31| below 1.5 times today's
+// 0.090.
+TEST(ImpactRegression, BasaltSphereLargestFragment) {
   cardiosph::ImpactParameters p;
-  p.resolution = 8;
+  p.resolution = 10;
   const auto r = test::run_scene(*cardiosph::make_impact_scene(p), "impact");
   auto result = [&](const char* key) { return r.results.at(key).get<double>(); };
-  std::printf("[ measured ] impact, 8 across the target: largest fragment %.3f of the target (experiment 0.31), %g fragments (%g of one "
-              "particle), damaged share %.2f, %g flaws, energy change %.1e, %.1f s\n",
-              result("largest_fragment_fraction"), result("fragments"), result("fragments_of_one_particle"), result("damaged_mass_share"),
-              result("flaws"), result("energy_change_relative"), r.wall_time_s);
-  EXPECT_LT(std::abs(error(r, "largest_fragment_fraction")), 0.2);
+  std::printf("[ measured ] impact, 10 across the target: largest fragment %.3f of the target, error %+.3f against the experiment's "
+              "0.31 (not met; guard 0.135), %g fragments (%g of one particle), damaged share %.2f, %g flaws, energy change %.1e "
+              "(bound 4e-4), %.1f s\n",
+              result("largest_fragment_fraction"), error(r, "largest_fragment_fraction"), result("fragments"),
+              result("fragments_of_one_particle"), result("damaged_mass_share"), result("flaws"), result("energy_change_relative"),
+              r.wall_time_s);
+  EXPECT_LT(std::abs(error(r, "largest_fragment_fraction")), 0.135);
   EXPECT_GT(result("damaged_mass_share"), 0.1);
-  EXPECT_LT(std::abs(result("energy_change_relative")), 1e-3);
+  EXPECT_LT(std::abs(result("energy_change_relative")), 4e-4);
 }
 
-// Extreme cases complete or stop with a diagnostic: a 10 km/s impact, and flaws too strong ever to
-// open (k tiny): the target then takes no damage at all.
+// Extreme cases complete or stop with a diagnostic: a 10 km/s impact (energy kept to 1.5e-3 if it
+// completes; measured 5.1e-4), and flaws too strong ever to open (k tiny): the target then takes no
+// damage at all.
 TEST(ImpactValidation, ExtremeImpactsCompleteOrStopWithADiagnostic) {
   cardiosph::ImpactParameters p;
   p.resolution = 6;
@@ -229,9 +246,9 @@ TEST(ImpactValidation, ExtremeImpactsCompleteOrStopWithADiagnostic) {
   p.speed = 10000;
   try {
     const auto r = test::run_scene(*cardiosph::make_impact_scene(p), "impact_fast");
-    std::printf("[ measured ] impact at 10 km/s completed: damaged share %.2f, energy change %.1e\n",
+    std::printf("[ measured ] impact at 10 km/s completed: damaged share %.2f, energy change %.1e (bound 1.5e-3)\n",
                 r.results.at("damaged_mass_share").get<double>(), r.results.at("energy_change_relative").get<double>());
-    EXPECT_LT(std::abs(r.results.at("energy_change_relative").get<double>()), 1e-2);
+    EXPECT_LT(std::abs(r.results.at("energy_change_relative").get<double>()), 1.5e-3);
   } catch (const sph::NumericalFailure& failure) {
     std::printf("[ measured ] impact at 10 km/s stopped: %s\n", failure.what());
     EXPECT_NE(std::string(failure.what()).find("particle"), std::string::npos);
@@ -247,9 +264,12 @@ TEST(ImpactValidation, ExtremeImpactsCompleteOrStopWithADiagnostic) {
 }  // namespace
 
 // The 2D Sedov-Taylor blast (E = 1 per unit length, rho0 = 1, gamma = 1.4) at 60 and 100 particles
-// per unit length, t = 0.1: the shock radius within 3 % of R(t) = 1.0040 (E t^2 / rho0)^(1/4) at both
-// (measured -0.8 % and -0.04 %; +0.8 % at 200), and the density L1 falling with resolution (it is
-// dominated by the shell, a few h wide in SPH where the exact one is a jump to 6 rho0).
+// per unit length, t = 0.1, against R(t) = 1.0040 (E t^2 / rho0)^(1/4). The error of the shock radius
+// changes sign with the resolution (-0.79 %, -0.04 % and +0.82 % at 60, 100 and 200; -4.1 % at 40,
+// where the shell is a few particles wide), so the default's -0.04 % is a zero crossing, not its
+// accuracy: the bound, 2.5 %, is on the largest |error| over the resolutions run, three times that
+// envelope over 60 to 200 (0.82 %). The density L1 falls with resolution (it is dominated by the shell, a few h wide in
+// SPH where the exact one is a jump to 6 rho0); the energy is kept to 7e-4 (measured -2.4e-4).
 namespace {
 
 TEST(ImpactValidation, SedovBlastShockFollowsTheSelfSimilarSolution) {
@@ -258,17 +278,20 @@ TEST(ImpactValidation, SedovBlastShockFollowsTheSelfSimilarSolution) {
   const auto coarse = test::run_scene(*cardiosph::make_sedov_blast_scene(p), "sedov_coarse");
   p.resolution = 100;
   const auto fine = test::run_scene(*cardiosph::make_sedov_blast_scene(p), "sedov");
-  for (const auto* r : {&coarse, &fine})
+  double envelope = 0;
+  for (const auto* r : {&coarse, &fine}) {
+    envelope = std::max(envelope, std::abs(error(*r, "shock_radius_relative")));
     std::printf("[ measured ] sedov-blast at %s per unit length: shock radius %.4f (exact %.4f, %+.2f %%), density L1 %.3f, energy change "
-                "%.1e, %.1f s\n",
+                "%.1e (bound 7e-4), %.1f s\n",
                 r == &coarse ? "60" : "100", r->results.at("shock_radius").get<double>(), r->results.at("exact_shock_radius").get<double>(),
                 100 * error(*r, "shock_radius_relative"), error(*r, "density_l1"), r->results.at("energy_change_relative").get<double>(),
                 r->wall_time_s);
-  EXPECT_LT(std::abs(error(coarse, "shock_radius_relative")), 0.03);
-  EXPECT_LT(std::abs(error(fine, "shock_radius_relative")), 0.03);
+  }
+  std::printf("[ measured ] sedov-blast: largest |shock radius error| over 60 and 100 per unit length %.2f %% (bound 2.5 %%)\n",
+              100 * envelope);
+  EXPECT_LT(envelope, 0.025);
   EXPECT_LT(error(fine, "density_l1"), error(coarse, "density_l1"));
-  EXPECT_LT(std::abs(fine.results.at("energy_change_relative").get<double>()), 1e-3);
+  for (const auto* r : {&coarse, &fine}) EXPECT_LT(std::abs(r->results.at("energy_change_relative").get<double>()), 7e-4);
 }
 
 }  // namespace
-

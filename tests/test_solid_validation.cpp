@@ -22,35 +22,41 @@ using test::run_scene;
 
 double result(const sph::RunReport& r, const std::string& key) { return r.results.at(key).get<double>(); }
 
-// Gray et al. 2001 plate at H/dp = 10 over five periods with the scene's defaults (quadratic
-// reconstruction, Gauss quadrature in the cells, energy-based hourglass control, clamp by
-// reflection): period within 0.5% of the thin-plate value (measured 0.07%; 0.75% with the nodal
-// quadrature, 2.4% with the fixed clamp as well, 4.5% with the corrected gradient and the penalty
-// before; below about 0.5% the thin-plate reference itself is not more accurate), total energy (no
-// damping) within 1e-4 (measured 1.5e-6; 9.4e-4 with the penalty).
+// Gray et al. 2001 plate at H/dp = 10 with the scene's defaults (quadratic reconstruction, Gauss
+// quadrature in the cells, energy-based hourglass control, clamp by reflection), over three periods
+// (the default runs five; three measure the same period, 0.2542 s, and energy drift, in 60 % of the
+// time). Period within 0.5 % of the thin-plate value (measured +0.07 %). The bound is the accuracy of
+// the reference, not of the code: the thin-plate period leaves out shear and rotary inertia (about
+// 0.6 % for L / H = 10) and the stiffening at this amplitude (about -0.35 %), and the Gauss series
+// converges to 0.10 % above it (docs/solid.md); 0.07 % is agreement within that, not a measure of
+// the error. Total energy (no damping) within 5e-6 (measured 1.4e-6 over three periods, 1.5e-6 over
+// five).
 TEST(SolidValidation, OscillatingBeamPeriodAndEnergy) {
-  cardiosph::OscillatingBeamParameters p;  // H/dp = 10, five periods
+  cardiosph::OscillatingBeamParameters p;  // H/dp = 10
+  p.end_time = 0.8;
   const auto r = run_scene(*cardiosph::make_oscillating_beam_scene(p), "beam");
   const double error = r.errors.at("period_relative").get<double>(), drift = result(r, "energy_drift_relative");
-  std::printf("oscillating-beam H/dp=10: period %.4f s (reference %.4f), error %.2f%% (bound 0.5%%), amplitude %.4f m, "
-              "energy drift %.2e (bound 1e-4)\n", result(r, "period_s"), result(r, "reference_period_s"), 100 * error,
-              result(r, "amplitude_m"), drift);
+  std::printf("oscillating-beam H/dp=10, t = 0.8: period %.5f s (reference %.4f), error %+.3f%% (bound 0.5%%), amplitude %.4f m, "
+              "energy drift %.2e (bound 5e-6), %g half periods, %.1f s\n",
+              result(r, "period_s"), result(r, "reference_period_s"), 100 * (result(r, "period_s") / result(r, "reference_period_s") - 1),
+              result(r, "amplitude_m"), drift, result(r, "half_periods_measured"), r.wall_time_s);
   EXPECT_LT(error, 0.005);
-  EXPECT_LT(drift, 1e-4);
-  EXPECT_GE(result(r, "half_periods_measured"), 8);
+  EXPECT_LT(drift, 5e-6);
+  EXPECT_GE(result(r, "half_periods_measured"), 5);
 }
 
-// Holzapfel-Ogden cube in four homogeneous deformations: interior Cauchy stress within 2%.
+// Holzapfel-Ogden cube in four homogeneous deformations at 12 across: interior Cauchy stress within
+// 1.2e-3 of the closed form (measured 3.9e-4, the fs shear; the others 5e-5 to 7e-5).
 TEST(SolidValidation, HomogeneousDeformationStress) {
   cardiosph::HomogeneousDeformationParameters p;
   p.resolution = 12;
   const auto r = run_scene(*cardiosph::make_homogeneous_deformation_scene(p), "homogeneous");
   const double error = r.errors.at("stress_relative").get<double>();
-  std::printf("homogeneous-deformation (resolution 12): max interior stress error %.2e (bound 2e-2): fibre %.1e, "
+  std::printf("homogeneous-deformation (resolution 12): max interior stress error %.2e (bound 1.2e-3): fibre %.1e, "
               "sheet %.1e, shear fs %.1e, shear sf %.1e\n", error, r.errors.at("stress_relative_fibre_stretch").get<double>(),
               r.errors.at("stress_relative_sheet_stretch").get<double>(), r.errors.at("stress_relative_shear_fs").get<double>(),
               r.errors.at("stress_relative_shear_sf").get<double>());
-  EXPECT_LT(error, 0.02);
+  EXPECT_LT(error, 1.2e-3);
 }
 
 // The passive cantilever runs to t = 3 without instability at a coarse resolution.
@@ -67,18 +73,19 @@ TEST(SolidStability, CantileverRunsToTheEnd) {
   EXPECT_GT(result(r, "tip_max_deflection_m"), 0.5);  // the kick bends it visibly
 }
 
-// nu = 0.4999 (K / mu about 5000): the cantilever runs and J stays within [0.98, 1.02].
+// nu = 0.4999 (K / mu about 5000): the cantilever runs and J stays within 5e-3 of 1, the
+// incompressible limit (measured [0.9985, 1.0015]).
 TEST(SolidStability, NearlyIncompressibleCantilever) {
   cardiosph::CantileverParameters p;
   p.resolution = 4;
   p.poisson_ratio = 0.4999;
   p.end_time = 0.2;
   const auto r = run_scene(*cardiosph::make_cantilever_scene(p), "incompressible");
-  std::printf("cantilever nu = 0.4999 (resolution 4, t = 0.2): J in [%.5f, %.5f] (bound [0.98, 1.02]), %zu steps\n",
+  std::printf("cantilever nu = 0.4999 (resolution 4, t = 0.2): J in [%.5f, %.5f] (bound [0.995, 1.005]), %zu steps\n",
               result(r, "min_jacobian"), result(r, "max_jacobian"), r.steps);
   EXPECT_EQ(r.status, "completed");
-  EXPECT_GT(result(r, "min_jacobian"), 0.98);
-  EXPECT_LT(result(r, "max_jacobian"), 1.02);
+  EXPECT_GT(result(r, "min_jacobian"), 0.995);
+  EXPECT_LT(result(r, "max_jacobian"), 1.005);
 }
 
 // A column twisted past 90 degrees: with the hourglass penalty the zero-energy-mode measure stays
@@ -172,8 +179,10 @@ namespace {
 // Land et al. 2015 problem 1 at 3 and 4 particles across the thickness, with the scene's defaults
 // (quadratic reconstruction, Gauss quadrature in the cells, clamp by reflection, quasi-static
 // relaxation stopped at a residual of 1e-4). Checked: the default (4 across) inside the published
-// spread 4.15-4.20 mm (measured 4.1697 mm; 4.1502 at 3 across, 4.1699 at 6), closer to its middle than
-// 3 across, both runs converged, and J near 1. With the nodal quadrature: 4.425, 4.300, 4.254 mm at
+// spread 4.15-4.20 mm (measured 4.1697 mm; 4.1502 at 3 across, 4.1699 at 6; the bound is the
+// spread of the published codes, wider than three times the distance from its middle), closer to its
+// middle than 3 across, both runs converged, and J within 3e-3 of 1 (the nearly incompressible law,
+// K / C = 100; measured [0.9991, 1.0009]). With the nodal quadrature: 4.425, 4.300, 4.254 mm at
 // 4, 6, 8 across (the long test LandBeamNodalSeriesConverges); with the fixed clamp as well 4.580,
 // 4.403, 4.332; with the corrected gradient 5.41, 4.73, 4.50.
 TEST(SolidValidation, LandBeamConvergesToThePublishedTip) {
@@ -184,7 +193,7 @@ TEST(SolidValidation, LandBeamConvergesToThePublishedTip) {
   const auto fine = run_scene(*cardiosph::make_land_beam_scene(p), "land4");
   const double z3 = result(coarse, "tip_z_mm"), z4 = result(fine, "tip_z_mm");
   const double middle = 4.175;
-  std::printf("land-beam: tip z %.4f mm (resolution 3), %.4f mm (4, the default; bound: inside 4.15-4.20); J in [%.4f, %.4f]; "
+  std::printf("land-beam: tip z %.4f mm (resolution 3), %.4f mm (4, the default; bound: inside 4.15-4.20); J in [%.4f, %.4f] (bound 1 +- 3e-3); "
               "residual %.1e, %zu steps, %.1f s\n", z3, z4, result(fine, "min_jacobian"), result(fine, "max_jacobian"),
               result(fine, "residual_relative"), fine.steps, fine.wall_time_s);
   EXPECT_LT(std::abs(z4 - middle), std::abs(z3 - middle));
@@ -193,8 +202,8 @@ TEST(SolidValidation, LandBeamConvergesToThePublishedTip) {
   EXPECT_TRUE(coarse.results.at("converged").get<bool>());
   EXPECT_TRUE(fine.results.at("converged").get<bool>());
   EXPECT_LE(result(fine, "residual_relative"), 1e-4);
-  EXPECT_GT(result(fine, "min_jacobian"), 0.98);
-  EXPECT_LT(result(fine, "max_jacobian"), 1.02);
+  EXPECT_GT(result(fine, "min_jacobian"), 0.997);
+  EXPECT_LT(result(fine, "max_jacobian"), 1.003);
 }
 
 // A quasi-static solve that cannot converge in the pseudo-time allowed stops as failed, naming the

@@ -193,8 +193,12 @@ TEST(TenTusscherPanfilov2006, OwnRbrQssStepGivesTheGenericSweepsBitForBit) {
 // cells paced at different times and strengths (so that the lanes sit on different branches of the
 // h and j gates and of the QSS update at once) through an action potential and its recovery. The
 // arithmetic is the same; Eigen's exp, log and expm1 round differently from the C library's (within
-// a few ulp), and the bound allows that difference to grow through 500 ms of the upstroke's
-// sensitivity: |V_lane - V_scalar| <= 1e-6 mV and every state within 1e-9 relative.
+// a few ulp), and that difference grows through 500 ms of the upstroke's sensitivity. Measured:
+// |V_lane - V_scalar| up to 1.6e-13 mV and every state within 2.7e-10 relative (a gate near 1e-8).
+// Bounds 1e-12 mV and 1e-9: a few times the measure rather than three, because the round-off
+// differences depend on the machine (the build uses -march=native: the width of the SIMD packets,
+// AVX2 or AVX-512, and where the compiler contracts to fused multiply-adds change which ulp each
+// elementary function rounds to).
 TEST(TenTusscherPanfilov2006, LanesFollowTheScalarStep) {
   static_assert(sph::HasLanesRbrQssStep<Model>);
   const Model model;
@@ -222,9 +226,9 @@ TEST(TenTusscherPanfilov2006, LanesFollowTheScalarStep) {
         }
       }
     }
-    std::printf("[ TP06     ] dt = %.2f ms, %d lanes: max |V_lane - V_scalar| = %.2e mV, max relative state difference %.2e, "
-                "V(500 ms) = %.6f mV\n", dt, sph::lane_count, worst_V, worst_relative, scalar[0][SI::V]);
-    EXPECT_LE(worst_V, 1e-6);
+    std::printf("[ TP06     ] dt = %.2f ms, %d lanes: max |V_lane - V_scalar| = %.2e mV, max relative state difference %.2e "
+                "(bounds 1e-12 mV, 1e-9), V(500 ms) = %.6f mV\n", dt, sph::lane_count, worst_V, worst_relative, scalar[0][SI::V]);
+    EXPECT_LE(worst_V, 1e-12);
     EXPECT_LE(worst_relative, 1e-9);
   }
 }

@@ -55,10 +55,6 @@ struct TaylorBarParameters {
   /// Artificial viscosity: the result depends on it (docs/impact.md: alpha 1 gives a bar 5 % too
   /// long and a mushroom 14 % too narrow at resolution 4, alpha 0.2 a face that splashes).
   double alpha = 0.5, beta = 1, xsph = 0;
-  /// Finite-element values: mushroom radius 7.12 mm (Simo 1992, Comput. Methods Appl. Mech. Engrg.
-  /// 99:61, section 7.2); final length 21.47 mm, the middle of the 21.42 to 21.48 mm that finite-element
-  /// runs of this benchmark report (docs/impact.md).
-  double reference_length = 21.47e-3, reference_radius = 7.12e-3;
   double end_time = 80e-6;
   double output_interval = 0;
 };
@@ -86,7 +82,6 @@ struct ImpactParameters {
   long seed = 1;
   double smoothing_length_ratio = 1.2;
   double alpha = 1, beta = 2;
-  double experiment_largest_fragment = 0.31;
   double end_time = 60e-6;
   double output_interval = 0;
 };
