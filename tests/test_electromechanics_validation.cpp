@@ -34,8 +34,9 @@ TEST(ElectromechanicsValidation, MyocardiumCubeSettlesInEquilibriumAndConverges)
     std::cout << "cube " << resolution << " across: corner u = (" << u[0] << ", " << u[1] << ", " << u[2]
               << "), equilibrium residual " << at(r, "equilibrium_residual") << ", J in [" << at(r, "min_jacobian") << ", "
               << at(r, "max_jacobian") << "], " << r.wall_time_s << " s\n";
-    // Bound: the net nodal force of the held state is below 1 % of the active-stress force.
-    EXPECT_LT(at(r, "equilibrium_residual"), 0.01);
+    // Bound: the net nodal force of the held state is below 0.8 % of the active-stress force, 3x the
+    // measured 0.24-0.27 %. The corner symmetry is a round-off check (the mirror corners move alike).
+    EXPECT_LT(at(r, "equilibrium_residual"), 0.008);
     EXPECT_LT(at(r, "corner_symmetry_difference"), 1e-6);
     EXPECT_LT(u[0].get<double>(), -0.1);  // the tension shortens the cube along the fibre
   }
@@ -169,7 +170,8 @@ TEST(HeartCalibration, CoarseFirstBeatHoldsItsTargetsAndConservesBlood) {
   // 1 % of the LV EDV (C_c = 20 mm^3/kPa times the pressure change, about 0.25 mL here).
   EXPECT_LT(isovolumic[0].get<double>(), 0.01 * edv);
   EXPECT_LT(isovolumic[1].get<double>(), 0.01 * edv);
-  // The closed loop holds its blood to round-off.
+  // The closed loop holds its blood to round-off: measured 1e-14 to 1e-16 of 1.5e6 mm^3; the bound,
+  // 1e-12, is a round-off bound (its size grows with the number of sub-steps), not 3x the measure.
   EXPECT_LT(drift, 1e-12);
   EXPECT_GT(at(r, "min_jacobian"), 0.8);
   EXPECT_LT(at(r, "max_jacobian"), 1.2);
