@@ -71,11 +71,11 @@ void add_electromechanics(sph::TimeStepper& stepper, Monodomain<Dim>& monodomain
     const Real K = std::floor(solid.stable_time_step() / ep_step * (1 + Real(1e-9)));
     return std::max(Real(1), K) * ep_step;
   };
-  sph::Stage mechanics{"mechanics", [&solid] { return solid.stable_time_step(); }, {}};
-  mechanics.then("mechanics", timers.timed("mechanics", [&solid, &tension](Real t, Real dt) {
-    interact(solid, tension, sph::same_particles, t, dt);
-    solid.advance(t, dt);
-  }));
+  // The solid's own phases, with the active stress before them; its loads slot stays open for the
+  // scene's couplings (cavity pressure, boundary springs).
+  sph::Stage mechanics = solid.stage("mechanics");
+  mechanics.phases.insert(mechanics.phases.begin(), sph::Phase{"active stress", sph::coupling(solid, tension, sph::same_particles), {}});
+  mechanics = timers.timed("mechanics", std::move(mechanics));
   sph::Stage step{"electromechanics", coupling_step, {}, ep_step};
   // The EP steps inside a coupling step: K of them, also when the accumulated time leaves the
   // coupling step a rounding error longer than K EP steps.

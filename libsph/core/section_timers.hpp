@@ -33,6 +33,23 @@ class SectionTimers {
       ++section.calls;
     };
   }
+  /// The action phases of `stage` (not its slots or nested stages), timed under `name` with one call
+  /// counted per step of the stage. The timers must outlive the stage.
+  Stage timed(const std::string& name, Stage stage) {
+    Section& section = sections_[name];
+    bool first = true;
+    for (auto& phase : stage.phases) {
+      if (phase.slot || !phase.nested.empty()) continue;
+      phase.action = [&section, count = first, action = std::move(phase.action)](Real time, Real dt) {
+        const auto start = std::chrono::steady_clock::now();
+        action(time, dt);
+        section.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (count) ++section.calls;
+      };
+      first = false;
+    }
+    return stage;
+  }
   double seconds(const std::string& name) const {
     const auto it = sections_.find(name);
     return it == sections_.end() ? 0.0 : it->second.seconds;

@@ -5,6 +5,7 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 namespace sph {
 namespace {
@@ -41,8 +42,57 @@ Stage& Stage::sub_cycle(Stage nested) {
   return *this;
 }
 
+Stage& Stage::slot(std::string slot_name) {
+  Phase phase{std::move(slot_name), {}, {}};
+  phase.slot = true;
+  phases.push_back(std::move(phase));
+  return *this;
+}
+
+namespace {
+/// The slot `name` in `stage` or a stage nested in it (depth-first): its stage and position, or null.
+std::pair<Stage*, std::size_t> find_slot(Stage& stage, const std::string& name) {
+  for (std::size_t k = 0; k < stage.phases.size(); ++k) {
+    Phase& phase = stage.phases[k];
+    if (phase.slot && phase.name == name) return {&stage, k};
+    if (!phase.nested.empty())
+      if (auto found = find_slot(phase.nested.front(), name); found.first) return found;
+  }
+  return {nullptr, 0};
+}
+
+Stage& slot_owner(Stage& stage, const std::string& name, std::size_t& position) {
+  const auto [owner, k] = find_slot(stage, name);
+  if (!owner) throw std::invalid_argument("stage '" + stage.name + "' has no slot '" + name + "'");
+  position = k;
+  return *owner;
+}
+}  // namespace
+
+Stage& Stage::fill(const std::string& slot_name, std::string phase_name, StepAction action) {
+  if (!action) throw std::invalid_argument("slot '" + slot_name + "': empty action '" + phase_name + "'");
+  std::size_t k = 0;
+  Stage& owner = slot_owner(*this, slot_name, k);
+  owner.phases.insert(owner.phases.begin() + static_cast<std::ptrdiff_t>(k), Phase{std::move(phase_name), std::move(action), {}});
+  return *this;
+}
+
+Stage& Stage::fill(const std::string& slot_name, Stage nested) {
+  std::size_t k = 0;
+  Stage& owner = slot_owner(*this, slot_name, k);
+  Phase phase{nested.name, {}, {}};
+  phase.nested.push_back(std::move(nested));
+  owner.phases.insert(owner.phases.begin() + static_cast<std::ptrdiff_t>(k), std::move(phase));
+  return *this;
+}
+
+bool Stage::has_slot(const std::string& slot_name) const {
+  return find_slot(const_cast<Stage&>(*this), slot_name).first != nullptr;
+}
+
 void Stage::run_step(Real time, Real dt) const {
   for (const auto& phase : phases) {
+    if (phase.slot) continue;
     if (phase.nested.empty()) {
       phase.action(time, dt);
       continue;
@@ -80,6 +130,15 @@ TimeStepper::TimeStepper(Real start_time, Real end_time) : start_time_(start_tim
 }
 
 void TimeStepper::add_stage(Stage stage) { stages_.push_back(std::move(stage)); }
+
+void TimeStepper::fill(const std::string& slot_name, std::string phase_name, StepAction action) {
+  for (auto& stage : stages_)
+    if (stage.has_slot(slot_name)) {
+      stage.fill(slot_name, std::move(phase_name), std::move(action));
+      return;
+    }
+  throw std::invalid_argument("time stepper: no stage has a slot '" + slot_name + "'");
+}
 
 void TimeStepper::set_coupling_interval(Real interval) { coupling_interval_ = interval; }
 

@@ -23,6 +23,18 @@
 // so its step follows the state (not fixed once per parent step), the sub-steps left are always
 // equal, and the last ends exactly at t + dt. A stage without a stable step takes its parent's step.
 //
+// Slots. A system declares its step as a stage of named phases (docs/architecture.md has the table
+// of every system) with empty, named slots where other systems act between its parts: the loads of
+// an elastic solid between its stress and its kick, the forces on bodies in a fluid's step. A scene
+// fills a slot with the couplings it declares (libsph/core/interaction.hpp):
+//
+//   sph::Stage mechanics = solid.stage("mechanics");          // ... | stress | [loads on 'wall'] | kick
+//   mechanics.fill(solid.loads_slot(), "cavity pressure", sph::coupling(solid, cavities, sph::same_particles));
+//
+// A filled slot runs its phases in the order they were added; an empty one does nothing. `fill`
+// searches the stage and its nested stages depth-first, and TimeStepper::fill its top-level stages,
+// so a slot can be filled after its stage was handed on.
+//
 // Events and callbacks. Times are start + offset + k * interval, never an accumulated sum. An event with
 // hit_exactly shortens the steps to land on its times; without, it runs at the first step at or
 // after each of them (sampling). Periodic work of the physics (the conduction update, neighbour
@@ -58,6 +70,7 @@ struct Phase {
   std::string name;
   StepAction action;
   std::vector<Stage> nested;  ///< empty, or the one nested stage
+  bool slot = false;          ///< a named place for phases added later (`Stage::fill`); runs nothing
 };
 
 struct Stage {
@@ -73,6 +86,15 @@ struct Stage {
   Stage& then(std::string phase_name, StepAction action);
   /// Appends a nested stage that sub-cycles over each step of this one at its own stable step.
   Stage& sub_cycle(Stage nested);
+  /// Appends an empty slot named `slot_name` (see "Slots" above).
+  Stage& slot(std::string slot_name);
+  /// Adds an action (or a nested stage) at the end of the slot `slot_name` of this stage or of a
+  /// stage nested in it (depth-first). Throws std::invalid_argument naming the slot and the stage if
+  /// there is no such slot.
+  Stage& fill(const std::string& slot_name, std::string phase_name, StepAction action);
+  Stage& fill(const std::string& slot_name, Stage nested);
+  /// True if this stage or a stage nested in it has the slot.
+  bool has_slot(const std::string& slot_name) const;
   /// Runs this stage over [time, time + dt] (the phases once; nested stages in sub-steps).
   void run_step(Real time, Real dt) const;
 };
@@ -94,6 +116,8 @@ class TimeStepper {
 
   /// Adds a top-level stage: its stable step limits the macro step; it runs once per macro step.
   void add_stage(Stage stage);
+  /// Stage::fill on the first top-level stage that has the slot; throws std::invalid_argument if none has.
+  void fill(const std::string& slot_name, std::string phase_name, StepAction action);
   /// Limits the macro step (the interval at which the top-level stages synchronise); 0 = no limit.
   void set_coupling_interval(Real interval);
   /// Periodic work at the given times (see EventTimes); `name` goes into error messages.

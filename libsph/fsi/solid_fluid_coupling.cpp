@@ -74,13 +74,7 @@ SolidFluidCoupling<Dim>::SolidFluidCoupling(WeaklyCompressibleFluid<Dim>& fluid,
   pressure_force_ = particles.template register_field<Vec<Dim>>("fluid_pressure_force", Vec<Dim>::Zero());
   viscous_force_ = particles.template register_field<Vec<Dim>>("fluid_viscous_force", Vec<Dim>::Zero());
   wall_index_ = fluid_.add_wall(wall_, WallForces::record);
-  // The solid feels the fluid's forces as a load held over its sub-steps.
-  solid_.add_force_load([this](Real, std::span<Vec<Dim>> force) {
-    const auto& p = solid_.particles();
-    const auto fp = p.field(pressure_force_);
-    const auto fv = p.field(viscous_force_);
-    parallel_for(force.size(), [&](std::size_t i) { force[i] += fp[i] + fv[i]; });
-  });
+  solid_.external_force_field();
   start_position_.resize(particles.n_particles());
   start_velocity_.resize(particles.n_particles());
   scratch_pressure_.resize(particles.n_particles());
@@ -143,7 +137,15 @@ void SolidFluidCoupling<Dim>::add_to(FluidStepHooks& hooks, SectionTimers& timer
                                           : std::function<Real()>{},
                     {}};
   solid_steps.then("step", timers.timed("solid_step", [this](Real t, Real dt) {
-    solid_.advance(t, dt);
+    solid_.half_drift(t, dt);
+    solid_.deformation_and_stress(t, dt);
+    // The solid feels the fluid's forces as a load held over its sub-steps.
+    auto& p = solid_.particles();
+    const auto fp = p.field(pressure_force_);
+    const auto fv = p.field(viscous_force_);
+    auto force = p.field(solid_.external_force_field());
+    parallel_for(force.size(), [&](std::size_t i) { force[i] += fp[i] + fv[i]; });
+    solid_.kick_and_drift(t, dt);
     ++solid_steps_;
   }));
   Stage within{"fsi '" + name + "'", {}, {}};

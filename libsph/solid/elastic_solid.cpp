@@ -378,10 +378,10 @@ void ElasticSolid<Dim>::add_traction_load(std::vector<Index> particles, std::vec
 }
 
 template <int Dim>
-void ElasticSolid<Dim>::add_force_load(ForceLoad load) {
-  if (!load) throw std::invalid_argument("solid: empty force load");
-  force_loads_.push_back(std::move(load));
-  load_force_.resize(particles_.n_particles());
+FieldHandle<Vec<Dim>> ElasticSolid<Dim>::external_force_field() {
+  if (!external_force_.valid())
+    external_force_ = particles_.template register_field<Vec<Dim>>("external_force", Vec<Dim>::Zero(), false);
+  return external_force_;
 }
 
 template <int Dim>
@@ -459,7 +459,7 @@ Mat<Dim> ElasticSolid<Dim>::hourglass_stress_of(std::size_t i, const Mat<Dim>& F
 }
 
 template <int Dim>
-std::size_t ElasticSolid<Dim>::deformation_and_stress() {
+std::size_t ElasticSolid<Dim>::compute_deformation_and_stress() {
   // One pass over the particles: F_i from its pair sum, then, if F_i is valid, P_i B0_i from the
   // law (only particle i's stress needs F_i). Returns the first particle with an invalid F (or n).
   const auto& x = particles_.position;
@@ -649,7 +649,7 @@ Vec<Dim> ElasticSolid<Dim>::internal_force_of(std::size_t i, std::span<const Vec
 template <int Dim>
 void ElasticSolid<Dim>::compute_load_accelerations(Real time) {
   // Pressure, force and traction loads at the current positions and F, as accelerations.
-  if (pressure_loads_.empty() && force_loads_.empty() && traction_loads_.empty()) return;
+  if (pressure_loads_.empty() && !external_force_.valid() && traction_loads_.empty()) return;
   const auto& V = particles_.volume;
   const auto F = particles_.field(deformation_gradient_);
   std::fill(load_acceleration_.begin(), load_acceleration_.end(), Vec<Dim>::Zero());
@@ -662,10 +662,9 @@ void ElasticSolid<Dim>::compute_load_accelerations(Real time) {
       load_acceleration_[i] -= p * (cofactor * load.area_normal[k]) * (inverse_inertia_ / V[i]);
     }
   }
-  if (!force_loads_.empty()) {
-    std::fill(load_force_.begin(), load_force_.end(), Vec<Dim>::Zero());
-    for (const auto& load : force_loads_) load(time, load_force_);
-    parallel_for(load_force_.size(), [&](std::size_t i) { load_acceleration_[i] += load_force_[i] * (inverse_inertia_ / V[i]); });
+  if (external_force_.valid()) {
+    const auto f = particles_.field(external_force_);
+    parallel_for(f.size(), [&](std::size_t i) { load_acceleration_[i] += f[i] * (inverse_inertia_ / V[i]); });
   }
   for (const auto& load : traction_loads_) {
     const Vec<Dim> t = load.traction(time);
@@ -687,7 +686,7 @@ typename ElasticSolid<Dim>::StepCheck ElasticSolid<Dim>::accelerations(Real time
   const auto& V = particles_.volume;
   const auto F = particles_.field(deformation_gradient_);
   const auto PB = particles_.field(stress_correction_);
-  const bool loads = !(pressure_loads_.empty() && force_loads_.empty() && traction_loads_.empty());
+  const bool loads = !(pressure_loads_.empty() && !external_force_.valid() && traction_loads_.empty());
   const Vec<Dim> g = settings_.body_force * (1 / settings_.numerics.mass_scaling);
   const std::size_t n = particles_.n_particles();
   const bool reflections = !reflected_.empty();
@@ -766,21 +765,34 @@ void ElasticSolid<Dim>::fail(std::size_t particle, Real time, const std::string&
 }
 
 template <int Dim>
-void ElasticSolid<Dim>::advance(Real time, Real dt) {
+Stage ElasticSolid<Dim>::stage(std::string name) {
+  Stage step{std::move(name), [this] { return stable_time_step(); }, {}};
+  step.then("half drift", [this](Real t, Real dt) { half_drift(t, dt); })
+      .then("deformation and stress", [this](Real t, Real dt) { deformation_and_stress(t, dt); })
+      .slot(loads_slot())
+      .then("kick and drift", [this](Real t, Real dt) { kick_and_drift(t, dt); });
+  return step;
+}
+
+template <int Dim>
+void ElasticSolid<Dim>::half_drift(Real time, Real dt) {
   auto& x = particles_.position;
   auto v = particles_.field(velocity_);
-  auto a = particles_.field(acceleration_);
-  const std::size_t n = particles_.n_particles();
   const Real half = dt / 2;
-  parallel_for(n, [&](std::size_t i) {
+  parallel_for(particles_.n_particles(), [&](std::size_t i) {
     previous_position_[i] = x[i];
     previous_velocity_[i] = v[i];
     x[i] += half * v[i];
   });
   apply_position_constraints(time + half);
+}
 
-  // Two passes over the pairs: F and the stress, then the forces with the velocity update.
-  if (const std::size_t bad = deformation_and_stress(); bad < n) {
+template <int Dim>
+void ElasticSolid<Dim>::deformation_and_stress(Real time, Real dt) {
+  // Two passes over the pairs in a step: this one (F and the stress), then the forces with the
+  // velocity update (kick_and_drift).
+  const Real half = dt / 2;
+  if (const std::size_t bad = compute_deformation_and_stress(); bad < particles_.n_particles()) {
     const Real J = particles_.field(deformation_gradient_)[bad].determinant();
     const std::string problem = !std::isfinite(J) ? "is not finite"
                                 : J > 0 ? "is inverted at a Gauss point of the particle's cell (J = " + std::to_string(J) + " at the particle)"
@@ -790,7 +802,19 @@ void ElasticSolid<Dim>::advance(Real time, Real dt) {
   if (steps_++ % static_cast<std::size_t>(settings_.numerics.stiffness_update_interval) == 0 &&
       settings_.numerics.tangent_time_step)
     update_current_sound_speed();
+  if (external_force_.valid()) {
+    auto f = particles_.field(external_force_);
+    std::fill(f.begin(), f.end(), Vec<Dim>::Zero());
+  }
+}
 
+template <int Dim>
+void ElasticSolid<Dim>::kick_and_drift(Real time, Real dt) {
+  auto& x = particles_.position;
+  auto v = particles_.field(velocity_);
+  auto a = particles_.field(acceleration_);
+  const std::size_t n = particles_.n_particles();
+  const Real half = dt / 2;
   const Real damping = 1 / (1 + settings_.damping_rate * dt);
   const StepCheck check = accelerations(time + half, [&](std::size_t i, const Vec<Dim>& a_i) {
     a[i] = a_i;
@@ -914,7 +938,7 @@ typename ElasticSolid<Dim>::Residual ElasticSolid<Dim>::equilibrium_residual(Rea
     for (const Index i : set) constrained[i] = 1;
   for (const auto& motion : prescribed_)
     for (const Index i : motion.particles) constrained[i] = 1;
-  deformation_and_stress();
+  compute_deformation_and_stress();
   compute_acceleration(time);
   const auto a = particles_.field(acceleration_);
   const auto& V = particles_.volume;
@@ -922,7 +946,7 @@ typename ElasticSolid<Dim>::Residual ElasticSolid<Dim>::equilibrium_residual(Rea
   r.net = std::sqrt(parallel_sum(n, 0.0, [&](std::size_t i) {
     return constrained[i] ? 0.0 : double((V[i] / inverse_inertia_ * a[i]).squaredNorm());
   }));
-  const bool loads = !(pressure_loads_.empty() && force_loads_.empty() && traction_loads_.empty());
+  const bool loads = !(pressure_loads_.empty() && !external_force_.valid() && traction_loads_.empty());
   const Vec<Dim> g = settings_.body_force * (1 / settings_.numerics.mass_scaling);
   r.load = std::sqrt(parallel_sum(n, 0.0, [&](std::size_t i) {
     if (constrained[i]) return 0.0;

@@ -77,6 +77,7 @@
 
 #include "libsph/core/neighbour_relation.hpp"
 #include "libsph/core/particles.hpp"
+#include "libsph/core/time_stepper.hpp"
 #include "libsph/solid/material_laws.hpp"
 
 namespace sph {
@@ -165,10 +166,6 @@ class ElasticSolid {
   /// reference configuration; p > 0 pushes into the body.
   void add_pressure_load(std::vector<Index> particles, std::vector<Vec<Dim>> area_normal,
                          std::function<Real(Real time)> pressure);
-  /// A force computed from the current state: load(time, force) adds its force on each particle to
-  /// `force` (zeroed before; one entry per particle) at the mid-step positions, after F is known.
-  using ForceLoad = std::function<void(Real time, std::span<Vec<Dim>> force)>;
-  void add_force_load(ForceLoad load);
   /// Dead traction (force per reference area, fixed direction) on surface particles of areas A_k.
   void add_traction_load(std::vector<Index> particles, std::vector<Real> area,
                          std::function<Vec<Dim>(Real time)> traction);
@@ -179,8 +176,32 @@ class ElasticSolid {
     apply_position_constraints(time);
     apply_velocity_constraints(time);
   }
-  /// Advances by one position-based Verlet step from `time` by dt (a TimeStepper stage).
-  void advance(Real time, Real dt);
+  /// The step from `time` by dt as a stage of named phases (docs/architecture.md), at the stable step:
+  ///   half drift | deformation and stress | [loads on '<particles>'] | kick and drift
+  /// Couplings that load the solid (libsph/core/interaction.hpp) fill the slot loads_slot(): at the
+  /// mid-step positions, with F and the stress current, each adds its force on every particle to
+  /// external_force_field().
+  Stage stage(std::string name);
+  std::string loads_slot() const { return "loads on '" + particles_.name() + "'"; }
+  /// The force per particle [force] that the couplings in the loads slot add to; zeroed by the phase
+  /// "deformation and stress" of every step. Registered on first call (field "external_force", not
+  /// written); a solid without it has no external forces.
+  FieldHandle<Vec<Dim>> external_force_field();
+
+  // The phases of a step from `time` by dt, in order (`stage` declares them; `advance` runs them).
+  /// x += dt/2 v (the start of the step is kept as the last good state), constraints at mid-step.
+  void half_drift(Real time, Real dt);
+  /// F and the stress at the mid-step positions (a failure undoes the step); the external force zeroed.
+  void deformation_and_stress(Real time, Real dt);
+  /// The accelerations (internal force, loads, external force, body force), v += dt a with the
+  /// damping, velocity constraints at the end, x += dt/2 v and the position constraints.
+  void kick_and_drift(Real time, Real dt);
+  /// One position-based Verlet step from `time` by dt with no coupling between the phases.
+  void advance(Real time, Real dt) {
+    half_drift(time, dt);
+    deformation_and_stress(time, dt);
+    kick_and_drift(time, dt);
+  }
   /// Stable step from the acoustic and acceleration criteria (see above), or the fixed step if set.
   Real stable_time_step() const;
 
@@ -263,7 +284,7 @@ class ElasticSolid {
   /// H_i of the hourglass energy (its F-part acts as the stress alpha E / 2 H_i).
   Mat<Dim> hourglass_stress_of(std::size_t i, const Mat<Dim>& F_i, std::span<const Vec<Dim>> x, std::span<const Real> V) const;
   /// F and the stress P B0 of every particle in one pass; the first particle with an invalid F, or n.
-  std::size_t deformation_and_stress();
+  std::size_t compute_deformation_and_stress();
   std::span<const Vec<Dim>> anisotropic_field(FieldHandle<Vec<Dim>> handle) const {
     return handle.valid() ? std::span<const Vec<Dim>>(particles_.field(handle)) : std::span<const Vec<Dim>>();
   }
@@ -347,8 +368,7 @@ class ElasticSolid {
   std::vector<PrescribedMotion> prescribed_;
   std::vector<PressureLoad> pressure_loads_;
   std::vector<TractionLoad> traction_loads_;
-  std::vector<ForceLoad> force_loads_;
-  std::vector<Vec<Dim>> load_force_;         // scratch of the force loads
+  FieldHandle<Vec<Dim>> external_force_;     // of the couplings in the loads slot (or invalid)
   std::vector<Vec<Dim>> load_acceleration_;  // of all loads, per particle
 
   Real max_acceleration_ = 0;

@@ -39,6 +39,12 @@ class QuasiStaticRelaxation {
     solid_.advance(time, dt);
     ++status_.steps;
   }
+  /// The solid's stage (ElasticSolid::stage, its loads slot open) with the step counted.
+  Stage stage(std::string name) {
+    Stage step = solid_.stage(std::move(name));
+    step.then("relaxation step", [this](Real, Real) { ++status_.steps; });
+    return step;
+  }
   Real stable_time_step() const { return solid_.stable_time_step(); }
 
   struct Status {

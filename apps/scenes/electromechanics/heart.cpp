@@ -265,7 +265,7 @@ class HeartModel {
                                                                                  : p.cavity_pressure.rv_pressure);
     for (std::size_t c = 0; c < cavities.size(); ++c)
       if (pressures[c].active())
-        solid.add_force_load([this, c](Real t, std::span<Vec3> force) {
+        wall_loads.push_back([this, c](Real t, std::span<Vec3> force) {
           const auto F = body.field(solid.deformation_gradient_field());
           if (pressure_of_volume)
             cavities[c].add_pressure_forces([this, c](double V) { return Real(pressure_of_volume(c, V)); }, body.position, F, X, force);
@@ -315,6 +315,8 @@ class HeartModel {
   /// When set (the circulation, once started): the pressure of cavity c at its current volume,
   /// evaluated at every mechanics sub-step.
   std::function<double(std::size_t cavity, double volume)> pressure_of_volume;
+  /// The loads on the wall at the mid-step (cavity pressures, springs): force added per particle.
+  std::vector<std::function<void(Real time, std::span<Vec3> force)>> wall_loads;
 
  private:
   /// The pericardium and the base as springs on the surface particles, per reference area A_i n_i
@@ -335,7 +337,7 @@ class HeartModel {
       has_base = has_base || surface.label == cardio::label_base;
       const Real k = Real(normal_only ? p.pericardium_stiffness : p.base_stiffness);
       if (k == 0) continue;
-      solid.add_force_load([this, &surface, normal_only, k](Real, std::span<Vec3> force) {
+      wall_loads.push_back([this, &surface, normal_only, k](Real, std::span<Vec3> force) {
         for (std::size_t m = 0; m < surface.loaded_particles.size(); ++m) {
           const auto i = surface.loaded_particles[m];
           const Vec3 u = body.position[i] - X[i], A = surface.area_normals[m];
@@ -1223,6 +1225,12 @@ void HeartScene::run(RunContext& ctx) {
   sph::TimeStepper stepper(0, Real(end_time));
   sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, "heart", ctx.quiet, ctx.checkpoint});
   cardio::add_electromechanics<3>(stepper, heart.monodomain, heart.tension, heart.solid, p_.coupling, run.timers());
+  if (!heart.wall_loads.empty()) {
+    const auto external = heart.solid.external_force_field();
+    stepper.fill(heart.solid.loads_slot(), "wall loads", [&heart, external](Real t, Real dt) {
+      for (const auto& load : heart.wall_loads) load(t + dt / 2, heart.body.field(external));
+    });
+  }
 
   // 4. Outputs and run.
   run.add_body(heart.body, Real(p_.numerics.discretisation.output_interval), [&](double) {

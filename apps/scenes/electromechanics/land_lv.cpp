@@ -161,10 +161,6 @@ class LandLvScene final : public Scene {
     const double ramp = p_.ramp_time;
     auto ramp_factor = [ramp](double t) { return ramp > 0 ? std::min(1.0, t / ramp) : 1.0; };
     const auto X = body.field(solid.reference_position_field());
-    solid.add_force_load([&](Real t, std::span<Vec3> force) {
-      lv.add_pressure_forces(Real(pressure * ramp_factor(double(t))), body.position,
-                             body.field(solid.deformation_gradient_field()), X, force);
-    });
     auto T = body.field(solid.active_tension_field());
     auto set_tension = [&](double t) { std::fill(T.begin(), T.end(), Real(tension * ramp_factor(t))); };
 
@@ -180,6 +176,11 @@ class LandLvScene final : public Scene {
     plan.end_time = p_.end_time;
     plan.output_interval = p_.numerics.discretisation.output_interval;
     plan.before_step = [&](Real t, Real dt) { set_tension(double(t + dt / 2)); };
+    const auto external = solid.external_force_field();
+    plan.loads.push_back({"cavity pressure", [&, external](Real t, Real dt) {
+                            lv.add_pressure_forces(Real(pressure * ramp_factor(double(t + dt / 2))), body.position,
+                                                   body.field(solid.deformation_gradient_field()), X, body.field(external));
+                          }});
     plan.observer_columns = {"endo_z", "epi_z", "midwall_z", "lv_volume"};
     plan.observers = [&](const sph::StepInfo& s) {
       const auto [endo, epi, mid] = apex_z();  // also leaves F at the current positions

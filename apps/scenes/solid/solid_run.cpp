@@ -44,15 +44,10 @@ SolidRunSummary run_solid(sph::ElasticSolid<Dim>& solid, const sph::NeighbourLis
                           const SolidRunPlan& plan, RunContext& ctx, sph::QuasiStaticRelaxation<Dim>* relaxation) {
   auto& body = solid.particles();
   sph::TimeStepper stepper(0, static_cast<sph::Real>(plan.end_time));
-  stepper.add_stage(sph::make_stage(
-      "solid", [&] { return relaxation ? relaxation->stable_time_step() : solid.stable_time_step(); },
-      [&](sph::Real t, sph::Real dt) {
-        if (plan.before_step) plan.before_step(t, dt);
-        if (relaxation)
-          relaxation->advance(t, dt);
-        else
-          solid.advance(t, dt);
-      }));
+  sph::Stage step = relaxation ? relaxation->stage("solid") : solid.stage("solid");
+  if (plan.before_step) step.phases.insert(step.phases.begin(), sph::Phase{"scene", plan.before_step, {}});
+  for (const auto& [name, load] : plan.loads) step.fill(solid.loads_slot(), name, load);
+  stepper.add_stage(std::move(step));
   if (plan.every_step) stepper.add_step_callback(plan.every_step);
   if (relaxation)
     stepper.add_step_callback([&](const sph::StepInfo& s) {

@@ -38,6 +38,8 @@ struct SolidRunPlan {
   sph::RunHarness::Row observers;             ///< their values at a sample time
   std::function<void(const sph::StepInfo&)> every_step;  ///< after every step (may be empty)
   std::function<void(sph::Real time, sph::Real dt)> before_step;  ///< before each step (may be empty)
+  /// Couplings that load the solid, in its loads slot (sph::ElasticSolid::stage), in this order.
+  std::vector<std::pair<std::string, sph::StepAction>> loads;
   double converge_after = 0;  ///< with a quasi-static relaxation: residual checks from this time on (the loads' ramp)
   /// The scene's own changing state outside the body (its observers' extremes, recorded curves), for
   /// checkpoints (sph::StateArchive); may be empty. Checkpoints are taken only in scenes whose
