@@ -9,6 +9,7 @@
 
 #include "geometry/lattice.hpp"
 #include "geometry/wall_particles.hpp"
+#include "libsph/core/interaction.hpp"
 #include "libsph/core/time_stepper.hpp"
 #include "libsph/fluid/open_boundaries.hpp"
 #include "libsph/fluid/weakly_compressible_fluid.hpp"
@@ -125,10 +126,10 @@ TEST(Fsi, MomentumOfFluidAndSolidIsConservedAcrossSubCycling) {
   };
   const auto [f0, s0] = momentum();
   sph::SectionTimers timers;
-  sph::FluidStepHooks hooks;
-  coupling.add_to(hooks, timers);
+  sph::Stage step = fluid.advection_stage(timers);
+  coupling.fill(step, timers);
   sph::TimeStepper stepper(0, Real(0.1));
-  stepper.add_stage(fluid.advection_stage(timers, std::move(hooks)));
+  stepper.add_stage(std::move(step));
   stepper.run();
   const auto [f1, s1] = momentum();
   const double initial = (f0 + s0).norm(), drift = ((f1 + s1) - (f0 + s0)).norm();
@@ -206,11 +207,11 @@ TEST(Fsi, RigidDiscSinksWithTheArchimedesAcceleration) {
   set_hydrostatic(fluid, g, H);
   sph::RigidBody<2> body(fluid, disc, normals, {Real(2), sph::RigidMotion::free, Vec2::Zero(), Vec2(0, -g)});
   sph::SectionTimers timers;
-  sph::FluidStepHooks hooks;
-  body.add_to(hooks, timers);
+  sph::Stage step = fluid.advection_stage(timers);
+  step.fill(fluid.acoustic_slot(), "rigid body 'disc'", sph::coupling(body, fluid, body.wall()));
   const Real T = Real(0.1);
   sph::TimeStepper stepper(0, T);
-  stepper.add_stage(fluid.advection_stage(timers, std::move(hooks)));
+  stepper.add_stage(std::move(step));
   stepper.run();
   const double measured = 2 * (body.centre()[1] - c[1]) / (T * T);  // y = y0 + a t^2 / 2
   const double exact = -g / 3.0;
@@ -245,12 +246,13 @@ TEST(OpenBoundaries, EmissionAndDeletionKeepFieldsAndRelationsConsistent) {
   sph::InflowZone<2> inlet(fluid, inflow);
   sph::OutflowZone<2> outlet(fluid, L);
   sph::SectionTimers timers;
-  sph::FluidStepHooks hooks;
-  inlet.add_to(hooks, timers);
-  outlet.add_to(hooks, timers);
+  sph::Stage step = fluid.advection_stage(timers);
+  step.fill(fluid.particles_slot(), "inflow emission", [&](Real, Real) { inlet.emit(); });
+  step.fill(fluid.particles_slot(), "outflow", [&](Real, Real) { outlet.remove(); });
+  step.fill(fluid.acoustic_slot(), "inflow velocity", sph::coupling(fluid, inlet, sph::same_particles));
   const std::size_t n0 = water.n_particles();
   sph::TimeStepper stepper(0, Real(1.5));
-  stepper.add_stage(fluid.advection_stage(timers, std::move(hooks)));
+  stepper.add_stage(std::move(step));
   stepper.run();
   const std::size_t n = water.n_particles();
   std::printf("particles %zu -> %zu: %zu emitted, %zu deleted\n", n0, n, inlet.emitted(), outlet.removed());

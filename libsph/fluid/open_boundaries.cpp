@@ -32,17 +32,20 @@ bool InflowZone<Dim>::inside(const Vec<Dim>& x) const {
 }
 
 template <int Dim>
-void InflowZone<Dim>::impose(Real time) {
-  auto& particles = fluid_.particles();
-  auto v = particles.field(fluid_.velocity_field());
+void interact(WeaklyCompressibleFluid<Dim>& on, const InflowZone<Dim>& by, SameParticles, Real time, Real dt) {
+  auto& particles = on.particles();
+  auto v = particles.field(on.velocity_field());
   const auto& x = particles.position;
+  const auto& velocity = by.settings().velocity;
+  const Real end = time + dt;
   parallel_for(x.size(), [&](std::size_t i) {
-    if (inside(x[i])) v[i] = settings_.velocity(x[i], time);
+    if (by.inside(x[i])) v[i] = velocity(x[i], end);
   });
 }
 
 template <int Dim>
 std::size_t InflowZone<Dim>::emit() {
+  if (!settings_.emit) return 0;
   auto& particles = fluid_.particles();
   auto flag = particles.field(in_buffer_);
   const Real length = settings_.upper[0] - settings_.lower[0];
@@ -66,14 +69,6 @@ std::size_t InflowZone<Dim>::emit() {
 }
 
 template <int Dim>
-void InflowZone<Dim>::add_to(FluidStepHooks& hooks, SectionTimers& timers) {
-  if (settings_.emit)
-    hooks.before_neighbours.push_back({"inflow emission", timers.timed("open_boundaries", [this](Real, Real) { emit(); }), {}});
-  hooks.acoustic.push_back(
-      {"inflow velocity", timers.timed("open_boundaries", [this](Real t, Real dt) { impose(t + dt); }), {}});
-}
-
-template <int Dim>
 std::size_t OutflowZone<Dim>::remove() {
   auto& particles = fluid_.particles();
   order_.clear();
@@ -85,14 +80,11 @@ std::size_t OutflowZone<Dim>::remove() {
   return gone;
 }
 
-template <int Dim>
-void OutflowZone<Dim>::add_to(FluidStepHooks& hooks, SectionTimers& timers) {
-  hooks.before_neighbours.push_back({"outflow", timers.timed("open_boundaries", [this](Real, Real) { remove(); }), {}});
-}
-
 template class InflowZone<2>;
 template class InflowZone<3>;
 template class OutflowZone<2>;
 template class OutflowZone<3>;
+template void interact<2>(WeaklyCompressibleFluid<2>&, const InflowZone<2>&, SameParticles, Real, Real);
+template void interact<3>(WeaklyCompressibleFluid<3>&, const InflowZone<3>&, SameParticles, Real, Real);
 
 }  // namespace sph

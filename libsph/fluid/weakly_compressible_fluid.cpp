@@ -513,21 +513,20 @@ typename WeaklyCompressibleFluid<Dim>::Energies WeaklyCompressibleFluid<Dim>::en
 }
 
 template <int Dim>
-Stage WeaklyCompressibleFluid<Dim>::advection_stage(SectionTimers& timers, FluidStepHooks hooks) {
-  acoustic_limits_ = std::move(hooks.acoustic_step_limits);
+Stage WeaklyCompressibleFluid<Dim>::advection_stage(SectionTimers& timers) {
   Stage acoustic{"acoustic", [this] { return planned_acoustic_step_; }, {}};
   acoustic.then("pressure force", timers.timed("fluid_pressure_force", [this](Real, Real dt) { first_half(dt); }))
-      .then("continuity", timers.timed("fluid_continuity", [this](Real, Real dt) { second_half(dt); }));
-  for (auto& phase : hooks.acoustic) acoustic.phases.push_back(std::move(phase));
+      .then("continuity", timers.timed("fluid_continuity", [this](Real, Real dt) { second_half(dt); }))
+      .slot(acoustic_slot());
   Stage advection{"advection", [this] { return plan_advection_step(); }, {}};
-  for (auto& phase : hooks.before_neighbours) advection.phases.push_back(std::move(phase));
-  advection.then("neighbours", timers.timed("fluid_neighbours", [this](Real, Real) { update_neighbours(); }))
-      .then("density", timers.timed("fluid_density_and_viscous", [this](Real, Real) {
+  advection.slot(particles_slot())
+      .then("neighbours", timers.timed("fluid_neighbours", [this](Real, Real) { update_neighbours(); }))
+      .then("density and forces", timers.timed("fluid_density_and_viscous", [this](Real, Real) {
         reinitialise_density();
         compute_prior_acceleration();
-      }));
-  for (auto& phase : hooks.after_forces) advection.phases.push_back(std::move(phase));
-  advection.sub_cycle(std::move(acoustic))
+      }))
+      .slot(forces_slot())
+      .sub_cycle(std::move(acoustic))
       .then("checks", [this](Real t, Real dt) {
         ++advection_steps_;
         check_state(t + dt);

@@ -52,9 +52,26 @@
 // WallForces::record keeps the force of every fluid-wall pair, so the force of the fluid on each wall
 // particle is exactly minus the sum of what its pairs gave the fluid (momentum is conserved to
 // round-off): the pressure part (Riemann pressure P* above) at each acoustic step, the viscous part
-// at each advection step. Scenes and couplings add their own work to the step through
-// FluidStepHooks: open boundaries before the neighbour search, body forces after the fluid's forces,
-// and bodies that sub-cycle at the end of every acoustic step (libsph/fsi/).
+// at each advection step.
+//
+// The step as a stage (advection_stage; libsph/core/time_stepper.hpp, "Slots"), with the slots in
+// which couplings act (libsph/core/interaction.hpp), named after the fluid's particles:
+//   advection:  [particles in and out of '<fluid>']              particles_slot()
+//               neighbours | density and forces
+//               [forces on bodies in '<fluid>']                 forces_slot()
+//               acoustic:  pressure force | continuity
+//                          [bodies in the acoustic step of '<fluid>']  acoustic_slot()
+//               checks
+//   particles_slot  particles created or deleted before the neighbour search: the emission of an
+//                   inflow zone and the deletion of an outflow zone (libsph/fluid/open_boundaries.hpp);
+//   forces_slot     after the density, viscous and body forces, with the relations just rebuilt: what
+//                   a body takes once per advection step (the surface normals of an elastic solid,
+//                   libsph/fsi/solid_fluid_coupling.hpp);
+//   acoustic_slot   at the end of every acoustic step, the fluid's pressure force of the step
+//                   recorded: the bodies that move under it (an elastic solid sub-cycling at its own
+//                   step, a rigid body, libsph/fsi/), the velocity imposed in an inflow zone, and
+//                   samples of the forces on bodies.
+// A body whose step bounds the fluid's adds that bound with add_acoustic_step_limit.
 //
 // Failure: after each advection step a particle whose density leaves [0.5, 2] rho0, whose state is
 // not finite, or which leaves the domain box stops the run with a NumericalFailure naming the
@@ -105,14 +122,6 @@ struct FluidNumerics {
 /// Whether a wall keeps the fluid's force on each of its particles (bodies, drag and lift) or not.
 enum class WallForces { ignore, record };
 
-/// What scenes and couplings add to the fluid's dual-criteria step (advection_stage), in order.
-struct FluidStepHooks {
-  std::vector<Phase> before_neighbours;  ///< at the start of an advection step: particles created or deleted
-  std::vector<Phase> after_forces;       ///< after density, viscous and body forces (viscous force on a body)
-  std::vector<Phase> acoustic;           ///< at the end of every acoustic step (bodies sub-cycling, inflow)
-  std::vector<std::function<Real()>> acoustic_step_limits;  ///< further upper bounds of the acoustic step
-};
-
 /// Declares fluid_scheme, riemann_limiter, artificial_viscosity, advection_cfl, acoustic_cfl,
 /// density_reinitialisation, transport_velocity and sort_interval.
 void declare_parameters(Parameters& p, FluidNumerics& numerics);
@@ -148,9 +157,16 @@ class WeaklyCompressibleFluid {
   void wall_forces(std::size_t k, std::span<Vec<Dim>> pressure, std::span<Vec<Dim>> viscous) const;
 
   /// The dual-criteria step: an advection stage (neighbours, density, viscous and body forces)
-  /// holding the acoustic stage (pressure force and continuity) as sub-steps, with the scene's
-  /// hooks. Phases are timed in `timers` (which must outlive the stage).
-  Stage advection_stage(SectionTimers& timers, FluidStepHooks hooks = {});
+  /// holding the acoustic stage (pressure force and continuity) as sub-steps, with the slots above.
+  /// Phases are timed in `timers` (which must outlive the stage).
+  Stage advection_stage(SectionTimers& timers);
+  /// The slots of advection_stage (see above).
+  std::string particles_slot() const { return "particles in and out of '" + particles_.name() + "'"; }
+  std::string forces_slot() const { return "forces on bodies in '" + particles_.name() + "'"; }
+  std::string acoustic_slot() const { return "bodies in the acoustic step of '" + particles_.name() + "'"; }
+  /// A further upper bound of the acoustic step, evaluated when each advection step is planned
+  /// (e.g. the stable step of a solid that does not sub-cycle). `limit` must outlive the fluid's runs.
+  void add_acoustic_step_limit(std::function<Real()> limit) { acoustic_limits_.push_back(std::move(limit)); }
 
   // The parts of the step, for tests and custom stages.
   void update_neighbours();
@@ -164,7 +180,7 @@ class WeaklyCompressibleFluid {
   /// The advection criterion dt_ad and the acoustic criterion dt_ac (see above).
   Real advection_time_step() const;
   Real acoustic_time_step() const;
-  /// The step of the advection stage: dt_ac now (bounded by the hooks' limits) times the whole
+  /// The step of the advection stage: dt_ac now (bounded by add_acoustic_step_limit) times the whole
   /// number of acoustic steps nearest to dt_ad / dt_ac (at least one); the acoustic sub-steps of
   /// that advection step are then dt_ac.
   Real plan_advection_step();

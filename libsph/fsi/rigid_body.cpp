@@ -136,12 +136,13 @@ void RigidBody<Dim>::advance(Real dt) {
 }
 
 template <int Dim>
-void RigidBody<Dim>::add_to(FluidStepHooks& hooks, SectionTimers& timers) {
-  hooks.acoustic.push_back({"rigid body '" + particles_.name() + "'",
-                            timers.timed("rigid_body", [this](Real, Real dt) { advance(dt); }), {}});
+void interact(RigidBody<Dim>& on, const WeaklyCompressibleFluid<Dim>&, const FluidWall<Dim>&, Real, Real dt) {
+  on.advance(dt);
 }
 
 template class RigidBody<2>;
 template class RigidBody<3>;
+template void interact<2>(RigidBody<2>&, const WeaklyCompressibleFluid<2>&, const FluidWall<2>&, Real, Real);
+template void interact<3>(RigidBody<3>&, const WeaklyCompressibleFluid<3>&, const FluidWall<3>&, Real, Real);
 
 }  // namespace sph

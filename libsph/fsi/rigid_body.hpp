@@ -13,11 +13,16 @@
 //   V' = V + dt A,  c' = c + dt (V + V') / 2,  w' = w + dt alpha,  R' = exp(dt (w + w') / 2) R,
 // and the particles follow x_j = c + R r_j. The fluid sees the motion averaged over the step, as
 // for an elastic solid: v_j = (x_j' - x_j) / dt, a_j = (u_j' - u_j) / dt with u = V + w x r.
+//
+// The step is the interaction of the fluid on the body (libsph/core/interaction.hpp), across the
+// body's wall (whose pair forces the fluid records), in the fluid's acoustic slot:
+//
+//   step.fill(fluid.acoustic_slot(), "rigid body 'disc'", sph::coupling(body, fluid, body.wall()));
 
 #include <string>
 #include <vector>
 
-#include "libsph/core/section_timers.hpp"
+#include "libsph/core/interaction.hpp"
 #include "libsph/fluid/fluid_wall.hpp"
 #include "libsph/fluid/weakly_compressible_fluid.hpp"
 
@@ -40,8 +45,6 @@ class RigidBody {
   RigidBody(WeaklyCompressibleFluid<Dim>& fluid, ParticleSet<Dim>& particles, const std::vector<Vec<Dim>>& normals,
             Settings settings);
 
-  /// Moves the body at the end of every acoustic step of the fluid.
-  void add_to(FluidStepHooks& hooks, SectionTimers& timers);
   /// Advances the body over one fluid acoustic step dt with the fluid's forces of that step.
   void advance(Real dt);
 
@@ -75,6 +78,11 @@ class RigidBody {
   std::vector<Vec<Dim>> reference_normal_; // in the body frame
   std::vector<Vec<Dim>> pressure_, viscous_;
 };
+
+/// The body over the fluid's acoustic step [time, time + dt] under the forces of that step
+/// (RigidBody::advance); `by` is the fluid the body was built in and `wall` the body's wall().
+template <int Dim>
+void interact(RigidBody<Dim>& on, const WeaklyCompressibleFluid<Dim>& by, const FluidWall<Dim>& wall, Real time, Real dt);
 
 extern template class RigidBody<2>;
 extern template class RigidBody<3>;

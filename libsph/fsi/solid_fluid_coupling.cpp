@@ -77,12 +77,10 @@ SolidFluidCoupling<Dim>::SolidFluidCoupling(WeaklyCompressibleFluid<Dim>& fluid,
   solid_.external_force_field();
   start_position_.resize(particles.n_particles());
   start_velocity_.resize(particles.n_particles());
-  scratch_pressure_.resize(particles.n_particles());
-  scratch_viscous_.resize(particles.n_particles());
 }
 
 template <int Dim>
-void SolidFluidCoupling<Dim>::update_normals() {
+void SolidFluidCoupling<Dim>::update_surface() {
   auto& particles = solid_.particles();
   solid_.update_deformation_gradient();
   const auto F = particles.field(solid_.deformation_gradient_field());
@@ -94,67 +92,56 @@ void SolidFluidCoupling<Dim>::update_normals() {
 }
 
 template <int Dim>
-void SolidFluidCoupling<Dim>::update_viscous_force() {
+void SolidFluidCoupling<Dim>::begin_acoustic_step() {
   auto& particles = solid_.particles();
-  fluid_.wall_forces(wall_index_, scratch_pressure_, particles.field(viscous_force_));
-}
-
-template <int Dim>
-void SolidFluidCoupling<Dim>::begin_step() {
-  auto& particles = solid_.particles();
-  // The pressure force of this acoustic step (the fluid's first half has recorded its pairs).
-  fluid_.wall_forces(wall_index_, particles.field(pressure_force_), scratch_viscous_);
+  fluid_.wall_forces(wall_index_, particles.field(pressure_force_), particles.field(viscous_force_));
   const auto v = particles.field(solid_.velocity_field());
   std::copy(particles.position.begin(), particles.position.end(), start_position_.begin());
   std::copy(v.begin(), v.end(), start_velocity_.begin());
 }
 
 template <int Dim>
-void SolidFluidCoupling<Dim>::end_step(Real dt) {
-  auto& particles = solid_.particles();
-  const auto v = particles.field(solid_.velocity_field());
-  auto v_avg = particles.field(wall_.velocity_field());
-  auto a_avg = particles.field(wall_.acceleration_field());
+void interact(ElasticSolid<Dim>& on, const WeaklyCompressibleFluid<Dim>&, const SolidFluidCoupling<Dim>& coupling, Real,
+              Real) {
+  auto& p = on.particles();
+  const auto fp = p.field(coupling.pressure_force_field());
+  const auto fv = p.field(coupling.viscous_force_field());
+  auto force = p.field(on.external_force_field());
+  parallel_for(force.size(), [&](std::size_t i) { force[i] += fp[i] + fv[i]; });
+}
+
+template <int Dim>
+void interact(FluidWall<Dim>& on, const ElasticSolid<Dim>& by, const SolidFluidCoupling<Dim>& coupling, Real, Real dt) {
+  auto& particles = on.particles();
+  const auto& x = by.particles().position;
+  const auto v = by.particles().field(by.velocity_field());
+  auto v_avg = particles.field(on.velocity_field());
+  auto a_avg = particles.field(on.acceleration_field());
+  const auto& x0 = coupling.start_position();
+  const auto& v0 = coupling.start_velocity();
   const Real inverse = Real(1) / dt;
-  const Real theta = settings_.acceleration_relaxation;
+  const Real theta = coupling.settings().acceleration_relaxation;
   parallel_for(particles.n_particles(), [&](std::size_t i) {
-    v_avg[i] = (particles.position[i] - start_position_[i]) * inverse;
-    a_avg[i] += theta * ((v[i] - start_velocity_[i]) * inverse - a_avg[i]);
+    v_avg[i] = (x[i] - x0[i]) * inverse;
+    a_avg[i] += theta * ((v[i] - v0[i]) * inverse - a_avg[i]);
   });
 }
 
 template <int Dim>
-void SolidFluidCoupling<Dim>::add_to(FluidStepHooks& hooks, SectionTimers& timers) {
+void SolidFluidCoupling<Dim>::fill(Stage& fluid_step, SectionTimers& timers) {
   const std::string name = solid_.particles().name();
-  hooks.after_forces.push_back({"normals and viscous force on '" + name + "'",
-                                timers.timed("fsi_forces", [this](Real, Real) {
-                                  update_normals();
-                                  update_viscous_force();
-                                }),
-                                {}});
-  Stage solid_steps{"solid '" + name + "'",
-                    settings_.sub_cycling ? std::function<Real()>([this] { return solid_.stable_time_step(); })
-                                          : std::function<Real()>{},
-                    {}};
-  solid_steps.then("step", timers.timed("solid_step", [this](Real t, Real dt) {
-    solid_.half_drift(t, dt);
-    solid_.deformation_and_stress(t, dt);
-    // The solid feels the fluid's forces as a load held over its sub-steps.
-    auto& p = solid_.particles();
-    const auto fp = p.field(pressure_force_);
-    const auto fv = p.field(viscous_force_);
-    auto force = p.field(solid_.external_force_field());
-    parallel_for(force.size(), [&](std::size_t i) { force[i] += fp[i] + fv[i]; });
-    solid_.kick_and_drift(t, dt);
-    ++solid_steps_;
-  }));
+  fluid_step.fill(fluid_.forces_slot(), "surface of '" + name + "'",
+                  timers.timed("fsi_forces", [this](Real, Real) { update_surface(); }));
+  Stage solid_steps = solid_.stage("solid '" + name + "'");
+  if (!settings_.sub_cycling) solid_steps.stable_time_step = {};  // one step per acoustic step
+  solid_steps.fill(solid_.loads_slot(), "fluid forces", sph::coupling(solid_, fluid_, *this));
+  solid_steps.then("count", [this](Real, Real) { ++solid_steps_; });
   Stage within{"fsi '" + name + "'", {}, {}};
-  within.then("pressure force and start", timers.timed("fsi_forces", [this](Real, Real) { begin_step(); }))
-      .sub_cycle(std::move(solid_steps))
-      .then("averages", [this](Real, Real dt) { end_step(dt); });
-  hooks.acoustic.push_back({"solid '" + name + "' in the acoustic step", {}, {}});
-  hooks.acoustic.back().nested.push_back(std::move(within));
-  if (!settings_.sub_cycling) hooks.acoustic_step_limits.push_back([this] { return solid_.stable_time_step(); });
+  within.then("forces and start of '" + name + "'", timers.timed("fsi_forces", [this](Real, Real) { begin_acoustic_step(); }))
+      .sub_cycle(timers.timed("solid_step", std::move(solid_steps)))
+      .then("motion of '" + name + "'", sph::coupling(wall_, solid_, *this));
+  fluid_step.fill(fluid_.acoustic_slot(), std::move(within));
+  if (!settings_.sub_cycling) fluid_.add_acoustic_step_limit([this] { return solid_.stable_time_step(); });
 }
 
 template <int Dim>
@@ -169,5 +156,9 @@ Vec<Dim> SolidFluidCoupling<Dim>::total_force() const {
 
 template class SolidFluidCoupling<2>;
 template class SolidFluidCoupling<3>;
+template void interact<2>(ElasticSolid<2>&, const WeaklyCompressibleFluid<2>&, const SolidFluidCoupling<2>&, Real, Real);
+template void interact<3>(ElasticSolid<3>&, const WeaklyCompressibleFluid<3>&, const SolidFluidCoupling<3>&, Real, Real);
+template void interact<2>(FluidWall<2>&, const ElasticSolid<2>&, const SolidFluidCoupling<2>&, Real, Real);
+template void interact<3>(FluidWall<3>&, const ElasticSolid<3>&, const SolidFluidCoupling<3>&, Real, Real);
 
 }  // namespace sph

@@ -117,9 +117,21 @@ class DamBreakScene final : public Scene {
 
     // Surge front, every advection step until it reaches the far wall.
     const double a = p_.water_width, time_scale = std::sqrt(p_.gravity / a);
-    std::vector<double> front_t{0}, front_x{p_.water_width};
-    bool front_done = false;
-    double arrival_time = std::numeric_limits<double>::quiet_NaN();
+    struct Front {  // the toe's position at every advection step, and when it reached the far wall
+      std::vector<double> t, x;
+      bool done = false;
+      double arrival_time = std::numeric_limits<double>::quiet_NaN();
+      void checkpoint(sph::StateArchive& archive) {
+        archive.io("front_done", done);
+        archive.io("front_t", t);
+        archive.io("front_x", x);
+        archive.io("arrival_time", arrival_time);
+      }
+    } front{{0}, {p_.water_width}};
+    auto& front_t = front.t;
+    auto& front_x = front.x;
+    bool& front_done = front.done;
+    double& arrival_time = front.arrival_time;
     auto toe = [&] {
       Real x = 0;
       for (const auto& xi : water.position) x = std::max(x, xi[0]);
@@ -135,7 +147,15 @@ class DamBreakScene final : public Scene {
     sph::PointProbes<Dim> probe({probe_point}, water.position, water.volume, kernel, settings.smoothing_length,
                                 sph::ProbeFit::shepard);
     const double rise_threshold = 0.1 * p_.density * p_.gravity * p_.water_height;
-    double first_rise = std::numeric_limits<double>::quiet_NaN(), peak_pressure = 0;
+    struct Probe {  // the first rise above rise_threshold and the peak
+      double first_rise = std::numeric_limits<double>::quiet_NaN(), peak_pressure = 0;
+      void checkpoint(sph::StateArchive& a) {
+        a.io("first_rise", first_rise);
+        a.io("peak_pressure", peak_pressure);
+      }
+    } wall_probe;
+    double& first_rise = wall_probe.first_rise;
+    double& peak_pressure = wall_probe.peak_pressure;
 
     FluidRunPlan plan;
     plan.scene = Dim == 2 ? "dambreak" : "dambreak-3d";
@@ -152,8 +172,16 @@ class DamBreakScene final : public Scene {
     };
     // Snapshots of the particles (position and pressure) at a few times, for pictures without ParaView.
     const std::vector<double> snapshot_times{1, 2, 3, 4, 5, 6};
-    std::size_t next_snapshot = 0;
-    std::string snapshots = "time,x,y,z,pressure\n";
+    struct Snapshots {  // the next snapshot time and the rows taken
+      std::size_t next = 0;
+      std::string text = "time,x,y,z,pressure\n";
+      void checkpoint(sph::StateArchive& a) {
+        a.io("next_snapshot", next);
+        a.io("snapshots", text);
+      }
+    } snapshot_record;
+    std::size_t& next_snapshot = snapshot_record.next;
+    std::string& snapshots = snapshot_record.text;
     auto take_snapshot = [&](double time) {
       const auto p = water.field(fluid.pressure_field());
       for (std::size_t i = 0; i < water.n_particles(); ++i) {
@@ -176,16 +204,9 @@ class DamBreakScene final : public Scene {
         arrival_time = s.time;
       }
     };
-    plan.state = [&](sph::StateArchive& archive) {
-      archive.io("first_rise", first_rise);
-      archive.io("peak_pressure", peak_pressure);
-      archive.io("next_snapshot", next_snapshot);
-      archive.io("snapshots", snapshots);
-      archive.io("front_done", front_done);
-      archive.io("front_t", front_t);
-      archive.io("front_x", front_x);
-      archive.io("arrival_time", arrival_time);
-    };
+    plan.keep("wall_probe", wall_probe);
+    plan.keep("snapshots", snapshot_record);
+    plan.keep("surge_front", front);
     run_fluid<Dim>(fluid, {&tank}, plan, ctx);
 
     // Front against the experiments.

@@ -71,40 +71,45 @@ FluidRunSummary run_fluid(sph::WeaklyCompressibleFluid<Dim>& fluid, std::vector<
   auto& body = fluid.particles();
   sph::TimeStepper stepper(0, static_cast<sph::Real>(plan.end_time));
   sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, plan.scene, ctx.quiet, ctx.checkpoint});
-  sph::FluidStepHooks hooks;
-  if (plan.extend) plan.extend(run, hooks);
-  stepper.add_stage(fluid.advection_stage(run.timers(), std::move(hooks)));
+  sph::Stage step = fluid.advection_stage(run.timers());
+  if (plan.extend) plan.extend(run, step);
+  stepper.add_stage(std::move(step));
   if (plan.every_step) stepper.add_step_callback(plan.every_step);
   run.add_body(body, static_cast<sph::Real>(plan.output_interval));
   for (auto* wall : walls) run.add_body(wall->particles(), 0);
 
   FluidRunSummary summary;
   const double c0 = fluid.settings().equation_of_state.sound_speed;
-  bool first = true;
-  double largest_energy = 0;
+  // The energy series and what it keeps: the initial and largest energy, the largest rise and Mach number.
+  struct EnergyRecord {
+    FluidRunSummary& summary;
+    bool first = true;
+    double largest_energy = 0;
+    void checkpoint(sph::StateArchive& a) {
+      a.io("first", first);
+      a.io("largest_energy", largest_energy);
+      a.io("initial_energy", summary.initial_energy);
+      a.io("max_energy_rise", summary.max_energy_rise);
+      a.io("max_mach", summary.max_mach);
+    }
+  } energy{summary};
   const auto sample_interval = static_cast<sph::Real>(plan.sample_interval > 0 ? plan.sample_interval : plan.end_time / 200);
   run.add_time_series(body.name() + "_energy.csv", {"kinetic", "potential", "internal", "total", "max_speed"},
                       sample_interval, [&](const sph::StepInfo&) {
                         const auto e = fluid.energies();
                         const double speed = fluid.max_speed();
-                        if (first) summary.initial_energy = e.total();
-                        first = false;
-                        largest_energy = std::max(largest_energy, std::abs(e.total()));
-                        const double scale = std::max({std::abs(summary.initial_energy), largest_energy, 1e-300});
+                        if (energy.first) summary.initial_energy = e.total();
+                        energy.first = false;
+                        energy.largest_energy = std::max(energy.largest_energy, std::abs(e.total()));
+                        const double scale = std::max({std::abs(summary.initial_energy), energy.largest_energy, 1e-300});
                         summary.max_energy_rise = std::max(summary.max_energy_rise, (e.total() - summary.initial_energy) / scale);
                         summary.max_mach = std::max(summary.max_mach, speed / c0);
                         return std::vector<double>{e.kinetic, e.potential, e.internal, e.total(), speed};
                       });
   if (!plan.observer_columns.empty()) run.add_time_series("observers.csv", plan.observer_columns, sample_interval, plan.observers);
   run.add_state("fluid/" + body.name(), [&](sph::StateArchive& a) { fluid.checkpoint(a); });
-  run.add_state("fluid_run", [&](sph::StateArchive& a) {
-    a.io("first", first);
-    a.io("largest_energy", largest_energy);
-    a.io("initial_energy", summary.initial_energy);
-    a.io("max_energy_rise", summary.max_energy_rise);
-    a.io("max_mach", summary.max_mach);
-  });
-  if (plan.state) run.add_state("scene", plan.state);
+  run.add_state("fluid_run", [&](sph::StateArchive& a) { energy.checkpoint(a); });
+  for (const auto& [name, state] : plan.records) run.add_state("scene/" + name, state);
   ctx.report.results["sound_speed"] = c0;
   ctx.report.results["smoothing_length"] = fluid.settings().smoothing_length;
   ctx.report.results["particle_spacing"] = fluid.settings().particle_spacing;

@@ -68,12 +68,17 @@ struct FluidRunPlan {
   sph::RunHarness::Row observers;
   std::function<void(const sph::StepInfo&)> every_step;  ///< after every advection step (may be empty)
   /// Adds bodies, couplings and open boundaries to the run (may be empty): their outputs on the
-  /// harness, their work on the fluid's step through the hooks.
-  std::function<void(sph::RunHarness&, sph::FluidStepHooks&)> extend;
-  /// The scene's own changing state outside the bodies (its observers' extremes, recorded curves), for
-  /// checkpoints (sph::StateArchive); may be empty. Checkpoints are taken only in scenes whose
-  /// Scene::checkpoints() is true: those list here all they keep.
-  std::function<void(sph::StateArchive&)> state;
+  /// harness, their couplings in the slots of the fluid's step (WeaklyCompressibleFluid::advection_stage).
+  std::function<void(sph::RunHarness&, sph::Stage& fluid_step)> extend;
+  /// Keeps `record` in the checkpoints under `name`: a struct of what the scene's observers and
+  /// callbacks change over the run outside the bodies (extremes, sums, recorded curves), whose
+  /// member checkpoint(sph::StateArchive&) saves and loads all of it; it must outlive the run.
+  /// Checkpoints are taken only in scenes whose Scene::checkpoints() is true: those keep all they change.
+  template <class Record>
+  void keep(std::string name, Record& record) {
+    records.emplace_back(std::move(name), [&record](sph::StateArchive& a) { record.checkpoint(a); });
+  }
+  std::vector<std::pair<std::string, std::function<void(sph::StateArchive&)>>> records;
 };
 
 struct FluidRunSummary {

@@ -71,7 +71,12 @@ class PoiseuilleScene final : public Scene {
       for (const auto& vi : v) sum += vi[0];
       return sum / double(v.size());
     };
-    double steady_time = std::nan("");
+    // What the observer keeps: the first time the mean speed is within 1 % of its steady value.
+    struct Steady {
+      double time = std::nan("");
+      void checkpoint(sph::StateArchive& a) { a.io("steady_time", time); }
+    } steady;
+    double& steady_time = steady.time;
     FluidRunPlan plan;
     plan.scene = "poiseuille";
     plan.end_time = p_.end_time;
@@ -82,7 +87,7 @@ class PoiseuilleScene final : public Scene {
       if (std::isnan(steady_time) && std::abs(mean - steady_mean) < 0.01 * steady_mean) steady_time = s.time;
       return std::vector<double>{mean, steady_mean};
     };
-    plan.state = [&](sph::StateArchive& a) { a.io("steady_time", steady_time); };
+    plan.keep("steady", steady);
     run_fluid<2>(fluid, {&walls}, plan, ctx);
 
     const auto v = water.field(fluid.velocity_field());

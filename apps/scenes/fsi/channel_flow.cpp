@@ -221,12 +221,34 @@ class ChannelFlowScene final : public Scene {
       for (const auto i : tip) sum += bar->particles.position[i] - X[i];
       return sum / static_cast<Real>(tip.size());
     };
-    std::vector<double> times, tip_x, tip_y, drag, lift;
+    struct Samples {  // the tip displacement and the force coefficients at every sample
+      std::vector<double> times, tip_x, tip_y, drag, lift;
+      void checkpoint(sph::StateArchive& a) {
+        a.io("times", times);
+        a.io("tip_x", tip_x);
+        a.io("tip_y", tip_y);
+        a.io("drag", drag);
+        a.io("lift", lift);
+      }
+    } samples;
+    auto& times = samples.times;
+    auto& tip_x = samples.tip_x;
+    auto& tip_y = samples.tip_y;
+    auto& drag = samples.drag;
+    auto& lift = samples.lift;
     const double force_scale = p_.density * U * U * p_.diameter;  // F / (rho U^2 D)
     // The force is averaged over the acoustic steps between samples: one acoustic step's pressure
     // carries the acoustic noise of the weakly-compressible fluid (of period about h / c0).
-    Vec2 force_sum = Vec2::Zero();
-    double force_time = 0;
+    struct ForceSum {  // the integral of the force over the acoustic steps since the last sample
+      Vec2 sum = Vec2::Zero();
+      double time = 0;
+      void checkpoint(sph::StateArchive& a) {
+        a.io("force_sum", sum);
+        a.io("force_time", time);
+      }
+    } force_integral;
+    Vec2& force_sum = force_integral.sum;
+    double& force_time = force_integral.time;
 
     FluidRunPlan plan;
     plan.scene = name_;
@@ -246,30 +268,22 @@ class ChannelFlowScene final : public Scene {
       lift.push_back(f[1] / force_scale);
       return std::vector<double>{d[0], d[1], f[0], f[1]};
     };
-    plan.extend = [&](sph::RunHarness& run, sph::FluidStepHooks& hooks) {
+    plan.extend = [&](sph::RunHarness& run, sph::Stage& step) {
       if (bar) {
-        bar->add_to(run, hooks, static_cast<Real>(plan.output_interval));
+        bar->add_to(run, step, static_cast<Real>(plan.output_interval));
       } else {
         run.add_body(*cylinder_particles, 0);
       }
-      inlet->add_to(hooks, run.timers());
-      hooks.acoustic.push_back({"force on the insert", [&](Real, Real dt) {
-                                  force_sum += dt * insert_force();
-                                  force_time += dt;
-                                },
-                                {}});
+      step.fill(fluid.acoustic_slot(), "inflow velocity",
+                run.timers().timed("open_boundaries", sph::coupling(fluid, *inlet, sph::same_particles)));
+      step.fill(fluid.acoustic_slot(), "force on the insert", [&](Real, Real dt) {
+        force_sum += dt * insert_force();
+        force_time += dt;
+      });
     };
-    plan.state = [&](sph::StateArchive& a) {
-      auto inlet_state = a.part("inlet");
-      inlet->checkpoint(inlet_state);
-      a.io("times", times);
-      a.io("tip_x", tip_x);
-      a.io("tip_y", tip_y);
-      a.io("drag", drag);
-      a.io("lift", lift);
-      a.io("force_sum", force_sum);
-      a.io("force_time", force_time);
-    };
+    plan.keep("inlet", *inlet);
+    plan.keep("samples", samples);
+    plan.keep("force_integral", force_integral);
     run_fluid<2>(fluid, {&walls}, plan, ctx);
     write_snapshot(ctx, water, fluid, bar ? bar->particles : *cylinder_particles);
 

@@ -131,8 +131,24 @@ class ElasticGateScene final : public Scene {
       if ((gate->particles.position[i] - lo).norm() < (gate->particles.position[corner] - lo).norm()) corner = i;
     const Vec2 corner_start = gate->particles.position[corner];
 
-    double max_dx = 0, max_dy = 0, time_of_max_dx = 0;
-    std::vector<double> times, dxs, dys;
+    struct Tip {  // the corner's displacement at every sample and its extremes
+      double max_dx = 0, max_dy = 0, time_of_max_dx = 0;
+      std::vector<double> times, dxs, dys;
+      void checkpoint(sph::StateArchive& a) {
+        a.io("max_dx", max_dx);
+        a.io("time_of_max_dx", time_of_max_dx);
+        a.io("max_dy", max_dy);
+        a.io("times", times);
+        a.io("dxs", dxs);
+        a.io("dys", dys);
+      }
+    } tip;
+    double& max_dx = tip.max_dx;
+    double& max_dy = tip.max_dy;
+    double& time_of_max_dx = tip.time_of_max_dx;
+    auto& times = tip.times;
+    auto& dxs = tip.dxs;
+    auto& dys = tip.dys;
     FluidRunPlan plan;
     plan.scene = "elastic-gate";
     plan.end_time = p_.end_time;
@@ -151,17 +167,10 @@ class ElasticGateScene final : public Scene {
       dys.push_back(d[1]);
       return std::vector<double>{d[0], d[1]};
     };
-    plan.extend = [&](sph::RunHarness& run, sph::FluidStepHooks& hooks) {
-      gate->add_to(run, hooks, static_cast<Real>(plan.output_interval));
+    plan.extend = [&](sph::RunHarness& run, sph::Stage& step) {
+      gate->add_to(run, step, static_cast<Real>(plan.output_interval));
     };
-    plan.state = [&](sph::StateArchive& a) {
-      a.io("max_dx", max_dx);
-      a.io("time_of_max_dx", time_of_max_dx);
-      a.io("max_dy", max_dy);
-      a.io("times", times);
-      a.io("dxs", dxs);
-      a.io("dys", dys);
-    };
+    plan.keep("tip", tip);
     run_fluid<2>(fluid, {&tank}, plan, ctx);
 
     // The SPHinXsys curve at its sample times within the run, beside ours, and the RMS difference of

@@ -24,13 +24,10 @@ void declare_fsi_solid_numerics(sph::Parameters& p, FsiSolidNumerics& n) {
         {0, 1, true, false});
 }
 
-void FsiBody::add_to(sph::RunHarness& run, sph::FluidStepHooks& hooks, sph::Real output_interval) {
+void FsiBody::add_to(sph::RunHarness& run, sph::Stage& fluid_step, sph::Real output_interval) {
   run.add_body(particles, output_interval, [this](double) { solid->update_output_fields(); });
-  coupling->add_to(hooks, run.timers());
-  run.add_state("fsi/" + particles.name(), [this](sph::StateArchive& a) {
-    solid->checkpoint(a);
-    coupling->checkpoint(a);
-  });
+  coupling->fill(fluid_step, run.timers());
+  run.add_state("fsi/" + particles.name(), [this](sph::StateArchive& a) { checkpoint(a); });
 }
 
 std::unique_ptr<FsiBody> make_fsi_body(sph::ParticleSet<2> particles, const std::vector<sph::Vec<2>>& normals,

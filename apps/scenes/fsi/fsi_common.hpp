@@ -20,9 +20,15 @@ struct FsiBody {
   std::unique_ptr<sph::ElasticSolid<2>> solid;
   std::unique_ptr<sph::SolidFluidCoupling<2>> coupling;
 
-  /// Adds the body to a fluid run: its particles written every `output_interval`, the coupling on
-  /// the fluid's step, and the solid's and coupling's state to the checkpoints.
-  void add_to(sph::RunHarness& run, sph::FluidStepHooks& hooks, sph::Real output_interval);
+  /// Adds the body to a fluid run: its particles written every `output_interval`, the coupling in
+  /// the slots of the fluid's step (SolidFluidCoupling::fill), and the solid's and coupling's state
+  /// to the checkpoints.
+  void add_to(sph::RunHarness& run, sph::Stage& fluid_step, sph::Real output_interval);
+  /// Saves or loads the solid's and the coupling's changing members (their fields are the particles').
+  void checkpoint(sph::StateArchive& archive) {
+    solid->checkpoint(archive);
+    coupling->checkpoint(archive);
+  }
 };
 
 struct FsiBodySpec {
