@@ -173,6 +173,15 @@ void UpdatedLagrangianBody<Dim>::update_equation_of_state() {
 
 template <int Dim>
 void UpdatedLagrangianBody<Dim>::compute_rates() {
+  update_neighbours();
+  update_density_and_pressure();
+  compute_stress_rates();
+  compute_forces();
+  add_self_gravity();
+}
+
+template <int Dim>
+void UpdatedLagrangianBody<Dim>::update_neighbours() {
   const Real h = settings_.smoothing_length;
   const std::size_t n = particles_.n_particles();
   const auto m = particles_.field(mass_);
@@ -191,6 +200,16 @@ void UpdatedLagrangianBody<Dim>::compute_rates() {
   } else {
     rebuild_inner_relation<Dim>(relation_, particles_.position, settings_.kernel, h);
   }
+}
+
+template <int Dim>
+void UpdatedLagrangianBody<Dim>::update_density_and_pressure() {
+  const Real h = settings_.smoothing_length;
+  const std::size_t n = particles_.n_particles();
+  const auto m = particles_.field(mass_);
+  const bool variable_h = settings_.smoothing_length_factor > 0;
+  std::span<const Real> h_of;
+  if (variable_h) h_of = particles_.field(smoothing_length_);
   if (settings_.density_summation) {
     // rho_i = m_i W(0, h_i) + sum_j m_j W(r_ij, h_ij), at the h set from the previous density.
     auto rho_sum = particles_.field(density_);
@@ -203,12 +222,16 @@ void UpdatedLagrangianBody<Dim>::compute_rates() {
     });
   }
   update_equation_of_state();
+}
+
+template <int Dim>
+void UpdatedLagrangianBody<Dim>::compute_stress_rates() {
+  const std::size_t n = particles_.n_particles();
+  const auto m = particles_.field(mass_);
+  const auto rho = particles_.field(density_);
   const auto v = particles_.field(velocity_);
   const auto p = particles_.field(pressure_);
   const auto c = particles_.field(sound_speed_);
-  auto a = particles_.field(acceleration_);
-  auto drho = particles_.field(density_rate_);
-  auto de = particles_.field(energy_rate_);
   const auto& R = relation_;
   const bool strength = settings_.shear_modulus > 0;
   const bool artificial_stress = settings_.artificial_stress;
@@ -268,6 +291,30 @@ void UpdatedLagrangianBody<Dim>::compute_rates() {
       area_rate[i] = intact > 0 ? Real(fracture_area_rate(weibull, crack_speed_fraction * c[i], strain, D[i])) : Real(0);
     });
   }
+}
+
+template <int Dim>
+void UpdatedLagrangianBody<Dim>::compute_forces() {
+  const Real h = settings_.smoothing_length;
+  const std::size_t n = particles_.n_particles();
+  const auto m = particles_.field(mass_);
+  const auto rho = particles_.field(density_);
+  const bool variable_h = settings_.smoothing_length_factor > 0;
+  std::span<const Real> h_of;
+  if (variable_h) h_of = particles_.field(smoothing_length_);
+  const auto v = particles_.field(velocity_);
+  const auto p = particles_.field(pressure_);
+  const auto c = particles_.field(sound_speed_);
+  auto a = particles_.field(acceleration_);
+  auto drho = particles_.field(density_rate_);
+  auto de = particles_.field(energy_rate_);
+  const auto& R = relation_;
+  const bool strength = settings_.shear_modulus > 0;
+  const bool artificial_stress = settings_.artificial_stress;
+  std::span<const Real> D;
+  if (settings_.damage) D = particles_.field(damage_);
+  std::span<const Mat<Dim>> S;
+  if (strength) S = particles_.field(deviatoric_stress_);
   // 2. The pair sums. Gather over each particle's own row: every sum is in a fixed order, whatever
   // the thread count.
   const Real alpha = settings_.alpha, beta = settings_.beta, epsilon = settings_.epsilon;
@@ -325,7 +372,18 @@ void UpdatedLagrangianBody<Dim>::compute_rates() {
     de[i] = rate_e;
     drho[i] = rho[i] * rate_rho;
   });
+}
+
+template <int Dim>
+void UpdatedLagrangianBody<Dim>::add_self_gravity() {
   if (gravity_) {
+    const Real h = settings_.smoothing_length;
+    const std::size_t n = particles_.n_particles();
+    const auto m = particles_.field(mass_);
+    const bool variable_h = settings_.smoothing_length_factor > 0;
+    std::span<const Real> h_of;
+    if (variable_h) h_of = particles_.field(smoothing_length_);
+    auto a = particles_.field(acceleration_);
     // Self-gravity (libsph/impact/gravity.hpp), softened with each particle's h.
     if constexpr (Dim == 3) {
       gravity_h_.resize(n);
@@ -393,7 +451,27 @@ Mat<Dim> UpdatedLagrangianBody<Dim>::yield(const Mat<Dim>& S, Real plastic_strai
 }
 
 template <int Dim>
+Stage UpdatedLagrangianBody<Dim>::stage(std::string name) {
+  Stage step{std::move(name), [this] { return stable_time_step(); }, {}};
+  step.then("kick and drift", [this](Real t, Real dt) { kick_and_drift(t, dt); })
+      .then("neighbours", [this](Real, Real) { update_neighbours(); })
+      .then("density and pressure", [this](Real, Real) { update_density_and_pressure(); })
+      .then("stress rates", [this](Real, Real) { compute_stress_rates(); })
+      .then("forces", [this](Real, Real) { compute_forces(); })
+      .then("self-gravity", [this](Real, Real) { add_self_gravity(); })
+      .then("second kick", [this](Real t, Real dt) { second_kick(t, dt); });
+  return step;
+}
+
+template <int Dim>
 void UpdatedLagrangianBody<Dim>::advance(Real time, Real dt) {
+  kick_and_drift(time, dt);
+  compute_rates();
+  second_kick(time, dt);
+}
+
+template <int Dim>
+void UpdatedLagrangianBody<Dim>::kick_and_drift(Real time, Real dt) {
   const std::size_t n = particles_.n_particles();
   auto v = particles_.field(velocity_);
   auto rho = particles_.field(density_);
@@ -470,8 +548,36 @@ void UpdatedLagrangianBody<Dim>::advance(Real time, Real dt) {
       throw NumericalFailure(particles_.name(), jumped, NumericalFailure::format_position(x[jumped]), time + dt, "displacement", problem);
     }
   }
-  compute_rates();
+}
+
+template <int Dim>
+void UpdatedLagrangianBody<Dim>::second_kick(Real time, Real dt) {
+  const std::size_t n = particles_.n_particles();
+  auto v = particles_.field(velocity_);
+  auto rho = particles_.field(density_);
+  auto e = particles_.field(energy_);
+  const auto a = particles_.field(acceleration_);
+  const auto drho = particles_.field(density_rate_);
+  const auto de = particles_.field(energy_rate_);
+  auto& x = particles_.position;
+  const Real half = Real(0.5) * dt;
+  const auto& v_half = v_half_;
+  const auto& rho_half = rho_half_;
+  const auto& e_half = e_half_;
+  const bool strength = settings_.shear_modulus > 0;
+  std::span<Mat<Dim>> S, dS;
+  if (strength) {
+    S = particles_.field(deviatoric_stress_);
+    dS = particles_.field(stress_rate_);
+  }
+  const bool plastic = settings_.yield_strength > 0;
+  std::span<Real> eps_p;
+  if (plastic) eps_p = particles_.field(plastic_strain_);
+  const bool summation = settings_.density_summation;
+  const auto p = particles_.field(pressure_);
+  std::span<Real> D;
   if (settings_.damage) {
+    D = particles_.field(damage_);
     advance_damage(D, particles_.field(damage_rate_), particles_.field(damage_cap_), half);
     kick_fracture_area(half);
   }

@@ -69,6 +69,7 @@
 #include "libsph/core/kernels.hpp"
 #include "libsph/core/neighbour_relation.hpp"
 #include "libsph/core/particles.hpp"
+#include "libsph/core/time_stepper.hpp"
 #include "libsph/core/state_archive.hpp"
 #include "libsph/impact/damage.hpp"
 #include "libsph/impact/gravity.hpp"
@@ -151,8 +152,33 @@ class UpdatedLagrangianBody {
   /// once after the initial density, velocity and energy are set.
   void initialise();
   Real stable_time_step() const;
-  /// One kick-drift-kick step from `time` by dt.
+  /// The kick-drift-kick step from `time` by dt as a stage of named phases (docs/architecture.md), at
+  /// the stable step:
+  ///   kick and drift | neighbours | density and pressure | stress rates | forces | self-gravity | second kick
+  /// the rates evaluated at the drifted positions with the state predicted to the full step.
+  Stage stage(std::string name);
+  /// One kick-drift-kick step from `time` by dt (the phases of `stage` in order).
   void advance(Real time, Real dt);
+
+  // The phases of a step, in order (`stage` declares them).
+  /// D^(1/3) and the fracture area a half step on; v, rho, e, S kicked to the half step with the old
+  /// rates, x drifted by dt, the state predicted to the full step; stops on a state out of range or a
+  /// particle that crossed its kernel support.
+  void kick_and_drift(Real time, Real dt);
+  /// The relation at the current positions (with variable h: h from the density first).
+  void update_neighbours();
+  /// The summation density (if chosen), then pressure and sound speed from the equation of state.
+  void update_density_and_pressure();
+  /// With strength: the corrected velocity gradient, the Jaumann stress rate and the artificial
+  /// stress per particle; with damage: the damage and fracture-area rates.
+  void compute_stress_rates();
+  /// The pair sums: acceleration, density and energy rates, the XSPH correction.
+  void compute_forces();
+  /// Adds the self-gravity acceleration (a body without self-gravity: nothing).
+  void add_self_gravity();
+  /// Damage a half step on, the second kick with the new rates, the state check, the equation of
+  /// state, and the check that the step has not collapsed.
+  void second_kick(Real time, Real dt);
   /// Holds these particles at rest where they are (a clamp): they keep their state and still act on
   /// their neighbours.
   void hold(std::vector<Index> particles);
@@ -194,6 +220,7 @@ class UpdatedLagrangianBody {
 
  private:
   void update_equation_of_state();
+  /// The rates at the current positions: update_neighbours ... add_self_gravity.
   void compute_rates();
   void check_state(Real time) const;
   Mat<Dim> yield(const Mat<Dim>& S, Real plastic_strain, Real pressure, Real damage, Real& plastic_increment) const;

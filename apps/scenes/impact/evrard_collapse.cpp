@@ -85,8 +85,7 @@ class EvrardCollapseScene final : public Scene {
     body.initialise();
 
     sph::TimeStepper stepper(0, static_cast<Real>(p_.end_time));
-    stepper.add_stage(sph::make_stage("self-gravitating gas", [&] { return body.stable_time_step(); },
-                                      [&](Real t, Real dt) { body.advance(t, dt); }));
+    stepper.add_stage(body.stage("self-gravitating gas"));
     sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, "evrard-collapse", ctx.quiet, ctx.checkpoint});
     run.add_body(gas, static_cast<Real>(p_.output_interval));
     run.add_relation("gas", body.relation());

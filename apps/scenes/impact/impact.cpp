@@ -118,7 +118,7 @@ class ImpactScene final : public Scene {
     body.initialise();
 
     sph::TimeStepper stepper(0, static_cast<Real>(p_.end_time));
-    stepper.add_stage(sph::make_stage("impact", [&] { return body.stable_time_step(); }, [&](Real t, Real dt) { body.advance(t, dt); }));
+    stepper.add_stage(body.stage("impact"));
     sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, "impact", ctx.quiet, ctx.checkpoint});
     run.add_body(rock, static_cast<Real>(p_.output_interval));
     run.add_relation("rock", body.relation());

@@ -30,6 +30,7 @@
 #include "apps/scenes/impact/impact_scenes.hpp"
 #include "geometry/lattice.hpp"
 #include "libsph/core/time_stepper.hpp"
+#include "libsph/core/union_find.hpp"
 #include "libsph/impact/updated_lagrangian.hpp"
 #include "libsph/io/atomic_file.hpp"
 #include "libsph/io/run_harness.hpp"
@@ -42,21 +43,11 @@ using Vec2 = sph::Vec<2>;
 
 // Clusters of particles closer than `link` to one another (union-find over the pairs of `relation`).
 std::size_t count_clusters(const sph::InnerRelation<2>& relation, std::size_t n, Real link) {
-  std::vector<std::size_t> parent(n);
-  std::iota(parent.begin(), parent.end(), std::size_t(0));
-  auto root = [&](std::size_t i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  };
+  sph::UnionFind clusters(n);
   for (std::size_t i = 0; i < n; ++i)
     for (std::size_t k = relation.offsets[i]; k < relation.offsets[i + 1]; ++k)
-      if (relation.distance[k] < link) {
-        const std::size_t a = root(i), b = root(relation.neighbour[k]);
-        if (a != b) parent[std::max(a, b)] = std::min(a, b);
-      }
-  std::size_t clusters = 0;
-  for (std::size_t i = 0; i < n; ++i) clusters += root(i) == i;
-  return clusters;
+      if (relation.distance[k] < link) clusters.unite(i, relation.neighbour[k]);
+  return clusters.n_sets();
 }
 
 class RubberRingsScene final : public Scene {
@@ -136,8 +127,7 @@ class RubberRingsScene final : public Scene {
     };
 
     sph::TimeStepper stepper(0, static_cast<Real>(p_.end_time));
-    stepper.add_stage(sph::make_stage("elastic dynamics", [&] { return body.stable_time_step(); },
-                                      [&](Real t, Real dt) { body.advance(t, dt); }));
+    stepper.add_stage(body.stage("elastic dynamics"));
     sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, "rubber-rings", ctx.quiet, ctx.checkpoint});
     run.add_body(rings, static_cast<Real>(p_.output_interval));
     run.add_relation("rings", body.relation());

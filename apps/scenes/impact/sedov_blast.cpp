@@ -114,7 +114,7 @@ class SedovBlastScene final : public Scene {
     };
 
     sph::TimeStepper stepper(0, static_cast<Real>(p_.end_time));
-    stepper.add_stage(sph::make_stage("blast", [&] { return body.stable_time_step(); }, [&](Real t, Real dt) { body.advance(t, dt); }));
+    stepper.add_stage(body.stage("blast"));
     sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, "sedov-blast", ctx.quiet, ctx.checkpoint});
     run.add_body(gas, static_cast<Real>(p_.output_interval));
     run.add_relation("gas", body.relation());

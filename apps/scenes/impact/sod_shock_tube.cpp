@@ -117,8 +117,7 @@ class SodShockTubeScene final : public Scene {
     body.initialise();
 
     sph::TimeStepper stepper(0, static_cast<Real>(p_.end_time));
-    stepper.add_stage(sph::make_stage("hydrodynamics", [&] { return body.stable_time_step(); },
-                                      [&](Real t, Real dt) { body.advance(t, dt); }));
+    stepper.add_stage(body.stage("hydrodynamics"));
     sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, "sod-shock-tube", ctx.quiet, ctx.checkpoint});
     run.add_body(gas, static_cast<Real>(p_.output_interval));
     run.add_relation("gas", body.relation());

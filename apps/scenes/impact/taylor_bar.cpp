@@ -106,8 +106,7 @@ class TaylorBarScene final : public Scene {
     };
 
     sph::TimeStepper stepper(0, static_cast<Real>(p_.end_time));
-    stepper.add_stage(sph::make_stage("elastic-plastic dynamics", [&] { return body.stable_time_step(); },
-                                      [&](Real t, Real dt) { body.advance(t, dt); }));
+    stepper.add_stage(body.stage("elastic-plastic dynamics"));
     sph::RunHarness run(stepper, ctx.report, {ctx.output_dir, "taylor-bar", ctx.quiet, ctx.checkpoint});
     run.add_body(bars, static_cast<Real>(p_.output_interval));
     run.add_relation("bars", body.relation());
