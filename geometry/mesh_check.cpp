@@ -36,6 +36,7 @@
 #include <CGAL/box_intersection_d.h>
 
 #include "geometry/mesh.hpp"
+#include "libsph/core/union_find.hpp"
 
 namespace geometry {
 namespace {
@@ -64,16 +65,6 @@ double signed_volume(const TriangleMesh& mesh) {
     six_volume += (mesh.vertices[f[0]] - o).dot((mesh.vertices[f[1]] - o).cross(mesh.vertices[f[2]] - o));
   return six_volume / 6;
 }
-
-struct UnionFind {
-  std::vector<std::size_t> parent;
-  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), std::size_t{0}); }
-  std::size_t find(std::size_t i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  }
-  void join(std::size_t a, std::size_t b) { parent[find(a)] = find(b); }
-};
 
 // Uses of one undirected edge {lower, upper} of the soup.
 struct EdgeUse {
@@ -188,7 +179,7 @@ MeshCheckReport check_mesh(const TriangleMesh& mesh) {
   std::vector<char> degenerate(mesh.faces.size(), 0);
   std::unordered_map<std::uint64_t, EdgeUse> edges;
   edges.reserve(2 * mesh.faces.size());
-  UnionFind components(mesh.faces.size());
+  sph::UnionFind components(mesh.faces.size());
   for (std::size_t i = 0; i < mesh.faces.size(); ++i) {
     const Face& f = mesh.faces[i];
     degenerate[i] = is_degenerate(mesh, f);
@@ -200,7 +191,7 @@ MeshCheckReport check_mesh(const TriangleMesh& mesh) {
       if (inserted)
         use.first_face = i;
       else
-        components.join(i, use.first_face);
+        components.unite(i, use.first_face);
       (a < b ? use.from_lower : use.from_upper) += 1;
     }
   }
@@ -210,8 +201,7 @@ MeshCheckReport check_mesh(const TriangleMesh& mesh) {
     if (use.faces() >= 3) ++report.non_manifold_edges;
     if (use.faces() == 2 && use.from_lower != 1) ++report.inconsistent_edges;
   }
-  for (std::size_t i = 0; i < mesh.faces.size(); ++i)
-    if (components.find(i) == i) ++report.components;
+  report.components = components.n_sets();
   report.self_intersecting_faces = count_self_intersecting_faces(mesh, degenerate);
   report.volume = signed_volume(mesh);
   return report;

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "libsph/core/parallel.hpp"
+#include "libsph/core/union_find.hpp"
 
 namespace sph {
 
@@ -271,32 +272,6 @@ std::size_t FragmentStatistics::cumulative_number(Real m) const {
   return static_cast<std::size_t>(end - fragments.begin());
 }
 
-namespace {
-
-// Union-find whose roots are the smallest index of their set: a union hangs the larger root
-// under the smaller, so the labels do not depend on the order of the unions.
-struct DisjointSets {
-  std::vector<Index> parent;
-  explicit DisjointSets(std::size_t n) : parent(n) {
-    for (std::size_t i = 0; i < n; ++i) parent[i] = static_cast<Index>(i);
-  }
-  Index find(Index i) {
-    while (parent[i] != i) {
-      parent[i] = parent[parent[i]];  // path halving keeps every root
-      i = parent[i];
-    }
-    return i;
-  }
-  void unite(Index a, Index b) {
-    a = find(a);
-    b = find(b);
-    if (a < b) parent[b] = a;
-    else if (b < a) parent[a] = b;
-  }
-};
-
-}  // namespace
-
 template <int Dim>
 FragmentStatistics find_fragments(const InnerRelation<Dim>& relation, std::span<const Real> mass,
                                   std::span<const Real> damage, Real threshold) {
@@ -307,7 +282,7 @@ FragmentStatistics find_fragments(const InnerRelation<Dim>& relation, std::span<
                                 std::to_string(n) + ")");
   if (!(threshold > 0) || !(threshold <= 1))
     throw std::invalid_argument("find_fragments: the damage threshold " + number(threshold) + " must be in (0, 1]");
-  DisjointSets sets(n);
+  UnionFind sets(n);
   for (std::size_t i = 0; i < n; ++i) {
     if (!(damage[i] < threshold)) continue;
     for (std::size_t p = relation.offsets[i]; p < relation.offsets[i + 1]; ++p) {
@@ -315,20 +290,21 @@ FragmentStatistics find_fragments(const InnerRelation<Dim>& relation, std::span<
       if (j >= n)
         throw std::invalid_argument("find_fragments: neighbour " + std::to_string(j) + " of particle " +
                                     std::to_string(i) + " is not a particle of the relation (" + std::to_string(n) + ")");
-      if (damage[j] < threshold) sets.unite(static_cast<Index>(i), j);
+      if (damage[j] < threshold) sets.unite(i, j);
     }
   }
   FragmentStatistics out;
   out.label.resize(n);
-  std::vector<std::size_t> fragment_of(n, n);  // by root
+  const std::vector<std::size_t> smallest = sets.smallest_member_labels();
+  std::vector<std::size_t> fragment_of(n, n);  // by label
   for (std::size_t i = 0; i < n; ++i) {
-    const Index root = sets.find(static_cast<Index>(i));
-    out.label[i] = root;
-    if (fragment_of[root] == n) {  // roots are the smallest index, met first in index order
-      fragment_of[root] = out.fragments.size();
-      out.fragments.push_back({root, 0, 0});
+    const Index label = static_cast<Index>(smallest[i]);
+    out.label[i] = label;
+    if (fragment_of[label] == n) {  // a label is its fragment's smallest index, met first in index order
+      fragment_of[label] = out.fragments.size();
+      out.fragments.push_back({label, 0, 0});
     }
-    auto& f = out.fragments[fragment_of[root]];
+    auto& f = out.fragments[fragment_of[label]];
     f.mass += mass[i];
     ++f.particles;
     out.total_mass += mass[i];
