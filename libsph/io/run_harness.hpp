@@ -28,6 +28,7 @@
 #include <chrono>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -43,6 +44,26 @@
 #include "libsph/io/time_series.hpp"
 
 namespace sph {
+
+/// What a scene's observers accumulate over a run outside the bodies: named scalars (extremes, sums,
+/// the last sample, a time of an event) and named series (recorded crossings, beat times), kept in
+/// checkpoints as one component (RunHarness::keep). A name's reference stays valid for the record's
+/// life; declare every name before the run (a resumed run loads what it declared).
+class RunRecord {
+ public:
+  /// The scalar `name` (`initial` at its first use).
+  double& value(const std::string& name, double initial = 0) { return values_.try_emplace(name, initial).first->second; }
+  /// The series `name` (empty at its first use).
+  std::vector<double>& series(const std::string& name) { return series_[name]; }
+  void checkpoint(StateArchive& archive) {
+    for (auto& [name, v] : values_) archive.io(name, v);
+    for (auto& [name, v] : series_) archive.io(name, v);
+  }
+
+ private:
+  std::map<std::string, double> values_;
+  std::map<std::string, std::vector<double>> series_;
+};
 
 class RunHarness {
  public:
@@ -69,7 +90,7 @@ class RunHarness {
   /// Counts the relation's memory in the report as <name>_relation.
   template <int Dim>
   void add_relation(const std::string& name, const NeighbourList<Dim>& relation) {
-    report_.memory_bytes[name + "_relation"] = relation.bytes();
+    report_.memory_bytes.set(name + "_relation", relation.bytes());
   }
   /// A CSV time series `file` with the columns "time" and `columns`: a row at the start, at the
   /// first step at or after every `interval`, and at the end.
@@ -78,6 +99,15 @@ class RunHarness {
   /// State of the scene beyond its bodies and series, saved and loaded under `name` by `state`
   /// (the same function for both directions, see libsph/core/state_archive.hpp).
   void add_state(const std::string& name, std::function<void(StateArchive&)> state);
+  /// A component that declares what it changes over the run outside the particle fields: a system, a
+  /// recorder, an observer or a coupling with a member checkpoint(StateArchive&) (saving and loading
+  /// with the same code); kept under `name`. It must outlive the harness. One line per component:
+  /// scenes list no state by hand.
+  template <class Component>
+    requires requires(Component& c, StateArchive& a) { c.checkpoint(a); }
+  void keep(const std::string& name, Component& component) {
+    add_state(name, [&component](StateArchive& a) { component.checkpoint(a); });
+  }
   /// A particle set that is not written as output but changes during the run (all its fields are saved).
   template <int Dim>
   void add_state(ParticleSet<Dim>& body) {
@@ -129,8 +159,8 @@ void RunHarness::add_body(ParticleSet<Dim>& body, Real output_interval, std::fun
   const Real interval = output_interval > 0 ? output_interval : stepper_.end_time() - stepper_.start_time();
   if (interval > 0) stepper_.add_periodic_callback(interval, [write](const StepInfo& s) { write(double(s.time)); });
   else write(double(stepper_.start_time()));
-  report_.particles[body.name()] = body.n_particles();
-  report_.memory_bytes[body.name() + "_fields"] = body.bytes_per_particle() * body.n_particles();
+  report_.particles.set(body.name(), body.n_particles());
+  report_.memory_bytes.set(body.name() + "_fields", body.bytes_per_particle() * body.n_particles());
 }
 
 }  // namespace sph

@@ -94,8 +94,8 @@ class CableScene final : public Scene {
                                       {"three_quarters", nearest(points[2])}}, 1, 2);
     const sph::PointProbes<3> probes(points, body.position, body.volume, kernel, h);
     const double end_time = p_.end_time > 0 ? p_.end_time : pacing.end_time;
-    EpRunPlan plan{"cable", end_time, p_.numerics.discretisation.output_interval, 1, false, {"middle", "quarter", "three_quarters"},
-                   [&](const sph::StepInfo&) { beats.record(); }, {}};
+    EpRunPlan plan("cable", end_time, p_.numerics.discretisation.output_interval, 1, {"middle", "quarter", "three_quarters"});
+    plan.every_step = [&](const sph::StepInfo&) { beats.record(); };
     std::optional<EcgRecorder> ecg;
     plan.before_run = [&](sph::RunHarness& run) {
       if (p_.ecg.mode == "none") return;
@@ -108,7 +108,7 @@ class CableScene final : public Scene {
                                  {}};
       ecg.emplace(e, parse_electrodes(e.electrodes), false, relation, body.position, body.volume, dx, source, run);
     };
-    plan.state = [&](sph::StateArchive& a) { beats.checkpoint(a); };  // the ECG saves its own
+    plan.keep("beats", beats);  // the ECG saves its own
     run_monodomain<3>(monodomain, body, relation, probes, plan, ctx);
 
     auto& r = ctx.report;

@@ -70,7 +70,7 @@ class DepolarizationScene final : public Scene {
     }
 
     const sph::PointProbes<2> probes({Vec2(0.3, 0.7)}, body.position, body.volume, kernel, h);
-    EpRunPlan plan{"depolarization", p_.end_time, p_.numerics.discretisation.output_interval, 0.01, false, {"observer"}, {}, {}};
+    EpRunPlan plan("depolarization", p_.end_time, p_.numerics.discretisation.output_interval, 0.01, {"observer"});
     const auto traces = run_monodomain<2>(monodomain, body, relation, probes, plan, ctx);
 
     const auto& t = traces.time;

@@ -67,12 +67,9 @@ EpTraces run_monodomain(cardio::Monodomain<Dim>& monodomain, sph::ParticleSet<Di
     return row;
   });
 
-  run.add_state("monodomain", [&](sph::StateArchive& a) { monodomain.checkpoint(a); });
-  run.add_state("traces", [&](sph::StateArchive& a) {
-    a.io("time", traces.time);
-    for (std::size_t p = 0; p < traces.potential.size(); ++p) a.io("potential" + std::to_string(p), traces.potential[p]);
-  });
-  if (plan.state) run.add_state("scene", plan.state);
+  run.keep("monodomain", monodomain);
+  run.keep("traces", traces);
+  plan.attach(run, static_cast<sph::Real>(sample));
   if (plan.before_run) plan.before_run(run);
   auto& report = ctx.report;
   report.results["time_step"] = monodomain.time_step();

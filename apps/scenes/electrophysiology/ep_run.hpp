@@ -8,7 +8,10 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include "apps/scenes/discretisation.hpp"
+#include "apps/scenes/run_plan.hpp"
 #include "apps/scenes/scene.hpp"
 #include "cardio/monodomain.hpp"
 #include "libsph/core/point_probes.hpp"
@@ -47,25 +50,24 @@ struct TissueProperties {
 /// Declares sigma_il, sigma_it, sigma_el, sigma_et, surface_to_volume and capacitance.
 void declare_parameters(sph::Parameters& p, TissueProperties& t);
 
-struct EpRunPlan {
-  std::string scene;                     ///< name shown in the progress line
-  double end_time = 0;
-  double output_interval = 0;            ///< 0: first and last state only
-  double sample_interval = 0;            ///< observers (0: end_time / 1000)
+struct EpRunPlan : RunPlan {  // sample_interval 0: end_time / 1000; observers.csv is the probes' potential
+  EpRunPlan(std::string scene_name, double end, double output, double sample, std::vector<std::string> probes) {
+    scene = std::move(scene_name), end_time = end, output_interval = output, sample_interval = sample;
+    probe_names = std::move(probes);
+  }
   bool stop_when_all_activated = false;  ///< end the run once every particle has been activated
   std::vector<std::string> probe_names;  ///< one per probe, for the CSV header
-  std::function<void(const sph::StepInfo&)> every_step;  ///< after every step (may be empty)
   std::function<void(sph::RunHarness&)> before_run;     ///< adds further outputs (may be empty)
-  /// The scene's own changing state outside the body (beat records, a stimulus placed during the
-  /// run), for checkpoints (sph::StateArchive); may be empty. Checkpoints are taken only in scenes
-  /// whose Scene::checkpoints() is true: those list here all they keep.
-  std::function<void(sph::StateArchive&)> state = {};
 };
 
 /// Sampled potential at the probes.
 struct EpTraces {
   std::vector<double> time;
   std::vector<std::vector<double>> potential;  ///< [probe][sample]
+  void checkpoint(sph::StateArchive& a) {
+    a.io("time", time);
+    for (std::size_t p = 0; p < potential.size(); ++p) a.io("potential" + std::to_string(p), potential[p]);
+  }
 };
 
 /// Runs the monodomain from t = 0. Writes, named after the particle set, <body>_*.vtu + <body>.pvd,

@@ -82,9 +82,9 @@ class NiedererSlabScene final : public Scene {
     cardio::Monodomain<3> monodomain(body, relation, settings);
 
     const sph::PointProbes<3> probes(std::vector<Vec3>(points.begin(), points.end()), body.position, body.volume, kernel, h);
-    EpRunPlan plan{"niederer-slab", p_.end_time, p_.numerics.discretisation.output_interval, 0.5,
-                   p_.stop_when_activated,
-                   {"P1", "P2", "P3", "P4", "P5", "P6", "P7", "P8", "P9"}, {}, {}};
+    EpRunPlan plan("niederer-slab", p_.end_time, p_.numerics.discretisation.output_interval, 0.5,
+                   {"P1", "P2", "P3", "P4", "P5", "P6", "P7", "P8", "P9"});
+    plan.stop_when_all_activated = p_.stop_when_activated;
     // Per-beat records with the maps: APD at the centre P9, CV along the fibres from P5 to P7.
     std::optional<BeatRecorder<3>> beats;
     if (monodomain.maps()) {
@@ -98,7 +98,7 @@ class NiedererSlabScene final : public Scene {
                                                                     {"P7", nearest(points[6])}},
                     1, 2);
       plan.every_step = [&](const sph::StepInfo&) { beats->record(); };
-      plan.state = [&](sph::StateArchive& a) { beats->checkpoint(a); };
+      plan.keep("beats", *beats);
     }
     run_monodomain<3>(monodomain, body, relation, probes, plan, ctx);
     if (beats) beats->finish(ctx.output_dir, pacing, p_.pacing.period, ctx.report);

@@ -81,30 +81,36 @@ class SpiralWaveScene final : public Scene {
     const std::vector<Vec2> observers{Vec2(L / 4, L / 4), Vec2(3 * L / 4, L / 4), Vec2(L / 4, 3 * L / 4),
                                       Vec2(3 * L / 4, 3 * L / 4), Vec2(L / 2, L / 2)};
     const sph::PointProbes<2> probes(observers, body.position, body.volume, kernel, h);
-    double s2_onset = p_.s2_time;
-    bool excited = false;  // the centre has been excited by S1 (automatic S2)
-    EpRunPlan plan{"spiral-wave", p_.end_time, p_.numerics.discretisation.output_interval, 0.5, false,
-                   {"lower_left", "lower_right", "upper_left", "upper_right", "centre"}, {}, {}};
+    // The S2 stimulus: at s2_time, or (s2_time <= 0) automatically, once the centre has been excited
+    // by S1 and has fallen back through -70 mV. A resumed run places an automatic S2 again.
+    struct SecondStimulus {
+      const SpiralWaveParameters& p;
+      cardio::Monodomain<2>& monodomain;
+      double onset;
+      bool excited = false;  // the centre has been excited by S1
+      void place(double time) {
+        onset = time;
+        monodomain.stimuli()[1].protocol = {time, p.stimulus_duration, p.stimulus_strength, 0, 1};
+      }
+      void checkpoint(sph::StateArchive& a) {
+        a.io("s2_onset", onset);
+        a.io("excited", excited);
+        if (a.loading() && p.s2_time <= 0 && onset > 0) place(onset);
+      }
+    } second{p_, monodomain, p_.s2_time};
+    double& s2_onset = second.onset;
+    EpRunPlan plan("spiral-wave", p_.end_time, p_.numerics.discretisation.output_interval, 0.5,
+                   {"lower_left", "lower_right", "upper_left", "upper_right", "centre"});
     if (p_.s2_time <= 0) {
-      // Automatic S2: once the centre has been excited by S1 and has fallen back through -70 mV.
       const auto V = body.field(monodomain.potential_field());
       plan.every_step = [&, V](const sph::StepInfo& s) {
-        if (s2_onset > 0) return;
+        if (second.onset > 0) return;
         const double centre = probes.sample(4, V);
-        excited = excited || centre > 0;
-        if (excited && centre < -70) {
-          s2_onset = s.time;
-          monodomain.stimuli()[1].protocol = {s.time, p_.stimulus_duration, p_.stimulus_strength, 0, 1};
-        }
+        second.excited = second.excited || centre > 0;
+        if (second.excited && centre < -70) second.place(s.time);
       };
     }
-    plan.state = [&](sph::StateArchive& a) {
-      a.io("s2_onset", s2_onset);
-      a.io("excited", excited);
-      // The automatic S2 placed before the checkpoint is placed again.
-      if (a.loading() && p_.s2_time <= 0 && s2_onset > 0)
-        monodomain.stimuli()[1].protocol = {s2_onset, p_.stimulus_duration, p_.stimulus_strength, 0, 1};
-    };
+    plan.keep("s2", second);
     const auto traces = run_monodomain<2>(monodomain, body, relation, probes, plan, ctx);
 
     // Rotation period: intervals between successive upstrokes at each corner observer after S2,

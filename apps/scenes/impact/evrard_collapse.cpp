@@ -106,7 +106,7 @@ class EvrardCollapseScene final : public Scene {
                           peak_kinetic_ = std::max(peak_kinetic_, en.kinetic);
                           return std::vector<double>{en.kinetic, en.internal, en.potential, en.total()};
                         });
-    run.add_state("body", [&](sph::StateArchive& a) { body.checkpoint(a); });
+    run.keep("body", body);
     run.add_state("extremes", [&](sph::StateArchive& a) {
       a.io("worst", worst_);
       a.io("peak_thermal", peak_thermal_);

@@ -140,7 +140,7 @@ class ImpactScene final : public Scene {
                           const auto en = body.energies();
                           return std::vector<double>{damaged_share(), en.kinetic, en.internal, en.total()};
                         });
-    run.add_state("body", [&](sph::StateArchive& a) { body.checkpoint(a); });
+    run.keep("body", body);
     run.run();
 
     const auto fragments = sph::find_fragments<3>(body.relation(), m, D, Real(1));

@@ -138,7 +138,7 @@ class RubberRingsScene final : public Scene {
                           const auto en = body.energies();
                           return std::vector<double>{l, r, en.kinetic, en.internal, en.total()};
                         });
-    run.add_state("body", [&](sph::StateArchive& a) { body.checkpoint(a); });
+    run.keep("body", body);
     run.run();
 
     plot_csv(ctx.output_dir, {"rings.csv", "rings.png",

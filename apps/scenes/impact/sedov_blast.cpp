@@ -125,7 +125,7 @@ class SedovBlastScene final : public Scene {
                           const double exact_radius = step.time > 0 ? exact.shock_radius(step.time) : 0.0;
                           return std::vector<double>{shock_radius(), exact_radius, en.kinetic, en.internal};
                         });
-    run.add_state("body", [&](sph::StateArchive& a) { body.checkpoint(a); });
+    run.keep("body", body);
     run.run();
     plot_csv(ctx.output_dir, {"shock.csv", "shock.png", "Sedov blast: shock radius", "time", "radius",
                               {{1, 2, "SPH (densest 1 %)", ""}, {1, 3, "exact", ""}}, false, "lines"});

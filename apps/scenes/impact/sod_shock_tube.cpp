@@ -127,7 +127,7 @@ class SodShockTubeScene final : public Scene {
                           const auto en = body.energies();
                           return std::vector<double>{en.kinetic, en.internal, en.total()};
                         });
-    run.add_state("body", [&](sph::StateArchive& a) { body.checkpoint(a); });
+    run.keep("body", body);
     run.run();
 
     // Errors against the exact solution on [-1/2, 1/2].

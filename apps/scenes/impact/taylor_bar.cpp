@@ -117,7 +117,7 @@ class TaylorBarScene final : public Scene {
                           const auto en = body.energies();
                           return std::vector<double>{l, r, en.kinetic / 2, en.internal / 2, en.total() / 2};  // one bar
                         });
-    run.add_state("body", [&](sph::StateArchive& a) { body.checkpoint(a); });
+    run.keep("body", body);
     run.run();
 
     // The outline: the largest radius in each layer of the upper bar.

@@ -73,7 +73,8 @@ class CantileverScene final : public Scene {
     const Vec3 tip_point(L, T / 2, T / 2);
     const sph::PointProbes<3> tip_probe({tip_point}, body.position, body.volume, kernel, h);  // reference configuration
     auto tip_position = [&] { return material_point_positions<3>(tip_probe, solid)[0]; };
-    double max_deflection = 0;
+    sph::RunRecord record;
+    double& max_deflection = record.value("max_deflection");
     SolidRunPlan plan;
     plan.scene = "cantilever";
     plan.end_time = p_.end_time;
@@ -84,7 +85,7 @@ class CantileverScene final : public Scene {
       max_deflection = std::max(max_deflection, double((tip - tip_point).tail<2>().norm()));
       return std::vector<double>{tip[0], tip[1], tip[2]};
     };
-    plan.state = [&](sph::StateArchive& a) { a.io("max_deflection", max_deflection); };
+    plan.keep("record", record);
     const auto summary = run_solid<3>(solid, relation, plan, ctx);
     const Vec3 tip = tip_position();
     auto& report = ctx.report;
@@ -147,7 +148,8 @@ class TwistingColumnScene final : public Scene {
     // Twist of the top layer: the mean rotation about z of its particles (unwrapped in time).
     const auto top = select_particles<3>(body, [&](const Vec3& X) { return X[2] > H - dp; });
     const auto X0 = body.field(solid.reference_position_field());
-    double twist = 0, max_twist = 0, max_measure = 0;
+    sph::RunRecord record;
+    double &twist = record.value("twist"), &max_twist = record.value("max_twist"), &max_measure = record.value("max_measure");
     auto top_rotation = [&] {
       double cross = 0, dot = 0;
       for (const auto i : top) {
@@ -172,11 +174,7 @@ class TwistingColumnScene final : public Scene {
       max_measure = std::max(max_measure, measure);
       return std::vector<double>{twist * 180 / M_PI, measure};
     };
-    plan.state = [&](sph::StateArchive& a) {
-      a.io("twist", twist);
-      a.io("max_twist", max_twist);
-      a.io("max_measure", max_measure);
-    };
+    plan.keep("record", record);
     const auto summary = run_solid<3>(solid, relation, plan, ctx);
     auto& report = ctx.report;
     report.results["particle_spacing"] = dp;

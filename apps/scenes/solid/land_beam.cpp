@@ -90,7 +90,8 @@ class LandBeamScene final : public Scene {
     const Vec3 point(length, Real(0.5), 1);
     const sph::PointProbes<3> probe({point}, body.position, body.volume, kernel, h);  // reference configuration
     auto tip_position = [&] { return material_point_positions<3>(probe, solid)[0]; };
-    double z_at_nine_tenths = std::nan("");
+    sph::RunRecord record;
+    double& z_at_nine_tenths = record.value("z_at_nine_tenths", std::nan(""));
     SolidRunPlan plan;
     plan.scene = "land-beam";
     plan.end_time = p_.end_time;
@@ -102,7 +103,7 @@ class LandBeamScene final : public Scene {
       return std::vector<double>{x[0], x[1], x[2]};
     };
     plan.converge_after = p_.ramp_time;
-    plan.state = [&](sph::StateArchive& a) { a.io("z_at_nine_tenths", z_at_nine_tenths); };
+    plan.keep("record", record);
     std::optional<sph::QuasiStaticRelaxation<3>> relaxation;
     if (p_.solver == "quasi_static") relaxation.emplace(solid, p_.relaxation);
     const SolidRunSummary summary = run_solid<3>(solid, relation, plan, ctx, relaxation ? &*relaxation : nullptr);

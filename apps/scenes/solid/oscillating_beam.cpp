@@ -81,8 +81,10 @@ class OscillatingBeamScene final : public Scene {
       for (const auto i : tip) sum += body.position[i][1] - body.field(solid.reference_position_field())[i][1];
       return sum / static_cast<double>(tip.size());
     };
-    std::vector<double> crossings;  // times where the tip deflection changes sign
-    double previous_time = 0, previous_deflection = 0, amplitude = 0;
+    sph::RunRecord record;
+    std::vector<double>& crossings = record.series("crossings");  // times where the tip deflection changes sign
+    double &previous_time = record.value("previous_time"), &previous_deflection = record.value("previous_deflection"),
+           &amplitude = record.value("amplitude");
 
     SolidRunPlan plan;
     plan.scene = "oscillating-beam";
@@ -98,12 +100,7 @@ class OscillatingBeamScene final : public Scene {
       previous_time = s.time;
       previous_deflection = d;
     };
-    plan.state = [&](sph::StateArchive& a) {
-      a.io("crossings", crossings);
-      a.io("previous_time", previous_time);
-      a.io("previous_deflection", previous_deflection);
-      a.io("amplitude", amplitude);
-    };
+    plan.keep("record", record);
     const auto summary = run_solid<2>(solid, relation, plan, ctx);
 
     const double reference_period = 2 * M_PI / reference_omega();

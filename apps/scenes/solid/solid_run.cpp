@@ -60,31 +60,26 @@ SolidRunSummary run_solid(sph::ElasticSolid<Dim>& solid, const sph::NeighbourLis
   run.add_relation(body.name(), relation);
 
   SolidRunSummary summary;
-  double max_energy = 0;
-  std::vector<double> energy_samples;
+  sph::RunRecord record;
+  double& min_jacobian = record.value("min_jacobian", 1);
+  double& max_jacobian = record.value("max_jacobian", 1);
+  double& max_energy = record.value("max_energy");
+  std::vector<double>& energy_samples = record.series("energy_samples");
   const auto sample_interval = static_cast<sph::Real>(plan.sample_interval > 0 ? plan.sample_interval : plan.end_time / 100);
   run.add_time_series(body.name() + "_energy.csv", {"kinetic", "strain", "total", "min_J", "max_J"}, sample_interval,
                       [&](const sph::StepInfo&) {
                         const auto e = solid.energies();  // also leaves F at the current positions
-                        summary.min_jacobian = std::min<double>(summary.min_jacobian, e.min_jacobian);
-                        summary.max_jacobian = std::max<double>(summary.max_jacobian, e.max_jacobian);
+                        min_jacobian = std::min<double>(min_jacobian, e.min_jacobian);
+                        max_jacobian = std::max<double>(max_jacobian, e.max_jacobian);
                         energy_samples.push_back(e.total());
                         max_energy = std::max(max_energy, e.total());
                         return std::vector<double>{e.kinetic, e.strain, e.total(), double(e.min_jacobian),
                                                    double(e.max_jacobian)};
                       });
-  if (!plan.observer_columns.empty()) run.add_time_series("observers.csv", plan.observer_columns, sample_interval, plan.observers);
-  run.add_state("solid/" + body.name(), [&](sph::StateArchive& a) {
-    solid.checkpoint(a);
-    if (relaxation) relaxation->checkpoint(a);
-  });
-  run.add_state("solid_run", [&](sph::StateArchive& a) {
-    a.io("min_jacobian", summary.min_jacobian);
-    a.io("max_jacobian", summary.max_jacobian);
-    a.io("max_energy", max_energy);
-    a.io("energy_samples", energy_samples);
-  });
-  if (plan.state) run.add_state("scene", plan.state);
+  plan.attach(run, sample_interval);
+  run.keep("solid/" + body.name(), solid);
+  if (relaxation) run.keep("relaxation/" + body.name(), *relaxation);
+  run.keep("solid_run", record);
 
   ctx.report.results["initial_time_step"] = solid.stable_time_step();
   summary.steps = run.run();
@@ -94,6 +89,8 @@ SolidRunSummary run_solid(sph::ElasticSolid<Dim>& solid, const sph::NeighbourLis
     for (const double e : energy_samples)
       summary.max_energy_drift = std::max(summary.max_energy_drift, std::abs(e - summary.initial_energy) / scale);
   }
+  summary.min_jacobian = min_jacobian;
+  summary.max_jacobian = max_jacobian;
   ctx.report.results["min_jacobian"] = summary.min_jacobian;
   ctx.report.results["max_jacobian"] = summary.max_jacobian;
   if (relaxation) {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "apps/scenes/discretisation.hpp"
+#include "apps/scenes/run_plan.hpp"
 #include "apps/scenes/scene.hpp"
 #include "libsph/core/point_probes.hpp"
 #include "libsph/core/time_stepper.hpp"
@@ -29,22 +30,11 @@ void declare_solid_numerics(sph::Parameters& p, SolidSceneNumerics& n, const std
 /// Throws ParameterError naming `name` unless extent / spacing is a whole number.
 void check_whole_spacings(double extent, double spacing, const std::string& name);
 
-struct SolidRunPlan {
-  std::string scene;                 ///< name shown in the progress line
-  double end_time = 0;
-  double output_interval = 0;        ///< 0: first and last state only
-  double sample_interval = 0;        ///< observers and energies (0: end_time / 100)
-  std::vector<std::string> observer_columns;  ///< columns of observers.csv after time (none: no file)
-  sph::RunHarness::Row observers;             ///< their values at a sample time
-  std::function<void(const sph::StepInfo&)> every_step;  ///< after every step (may be empty)
+struct SolidRunPlan : RunPlan {  // sample_interval 0: end_time / 100 (also the energies)
   std::function<void(sph::Real time, sph::Real dt)> before_step;  ///< before each step (may be empty)
   /// Couplings that load the solid, in its loads slot (sph::ElasticSolid::stage), in this order.
   std::vector<std::pair<std::string, sph::StepAction>> loads;
   double converge_after = 0;  ///< with a quasi-static relaxation: residual checks from this time on (the loads' ramp)
-  /// The scene's own changing state outside the body (its observers' extremes, recorded curves), for
-  /// checkpoints (sph::StateArchive); may be empty. Checkpoints are taken only in scenes whose
-  /// Scene::checkpoints() is true: those list here all they keep.
-  std::function<void(sph::StateArchive&)> state;
 };
 
 struct SolidRunSummary {
