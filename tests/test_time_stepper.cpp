@@ -2,6 +2,10 @@
 // steps evened out before events, nested stages, events, and time-step collapse stops the run.
 #include <gtest/gtest.h>
 
+#include <stdexcept>
+#include <string>
+#include <vector>
+
 #include "libsph/core/time_stepper.hpp"
 #include "tests/precision.hpp"
 
@@ -161,3 +165,37 @@ TEST(TimeStepper, TimeStepCollapseStopsTheRun) {
 }
 
 }  // namespace
+
+// Slots: a system's stage leaves named places between its phases; couplings filled into them run
+// there, in the order they were added, also inside a nested stage and after the stage was handed to
+// the stepper; an unknown slot is refused by name.
+TEST(TimeStepperSlots, FilledSlotsRunInPlaceAndInOrder) {
+  std::vector<std::string> log;
+  auto note = [&log](std::string what) { return [&log, what](Real, Real) { log.push_back(what); }; };
+  sph::Stage inner{"inner", {}, {}};
+  inner.then("inner a", note("inner a")).slot("inner slot").then("inner b", note("inner b"));
+  sph::Stage outer{"outer", [] { return Real(1); }, {}};
+  outer.then("first", note("first")).slot("loads").sub_cycle(std::move(inner)).then("last", note("last"));
+  outer.fill("loads", "load 1", note("load 1")).fill("loads", "load 2", note("load 2"));
+  EXPECT_TRUE(outer.has_slot("inner slot"));
+  EXPECT_FALSE(outer.has_slot("nowhere"));
+  EXPECT_THROW(outer.fill("nowhere", "x", note("x")), std::invalid_argument);
+  sph::TimeStepper stepper(0, 1);
+  stepper.add_stage(std::move(outer));
+  stepper.fill("inner slot", "coupling", note("coupling"));
+  EXPECT_THROW(stepper.fill("nowhere", "x", note("x")), std::invalid_argument);
+  stepper.run();
+  const std::vector<std::string> expected{"first", "load 1", "load 2", "inner a", "coupling", "inner b", "last"};
+  EXPECT_EQ(log, expected);
+}
+
+// An empty slot does nothing: the stage runs as if it were not there.
+TEST(TimeStepperSlots, EmptySlotRunsNothing) {
+  int calls = 0;
+  sph::Stage stage{"s", [] { return Real(0.25); }, {}};
+  stage.slot("empty").then("count", [&calls](Real, Real) { ++calls; }).slot("also empty");
+  sph::TimeStepper stepper(0, 1);
+  stepper.add_stage(std::move(stage));
+  EXPECT_EQ(stepper.run(), 4u);
+  EXPECT_EQ(calls, 4);
+}
