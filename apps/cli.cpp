@@ -94,9 +94,9 @@ int run_cli(int argc, const char* const* argv) {
       if (result.exit_code == exit_ok && !options.quiet) {
         std::cout << "\n" << name << " " << result.report.status << " in " << result.report.wall_time_s << " s, "
                   << result.report.steps << " steps\n";
-        for (auto it = result.report.results.begin(); it != result.report.results.end(); ++it)
+        for (auto it = result.report.results.json().begin(); it != result.report.results.json().end(); ++it)
           std::cout << "  results." << it.key() << " = " << it.value() << '\n';
-        for (auto it = result.report.errors.begin(); it != result.report.errors.end(); ++it)
+        for (auto it = result.report.errors.json().begin(); it != result.report.errors.json().end(); ++it)
           std::cout << "  errors." << it.key() << " = " << it.value() << '\n';
       }
       if (result.exit_code == exit_interrupted)

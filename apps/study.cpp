@@ -79,14 +79,14 @@ SweepResult run_sweep(const std::string& scene_name, const Sweep& sweep, const C
 
   // Table.
   auto& error_names = out.error_names;
-  for (auto it = reports.front().errors.begin(); it != reports.front().errors.end(); ++it) error_names.push_back(it.key());
+  for (auto it = reports.front().errors.json().begin(); it != reports.front().errors.json().end(); ++it) error_names.push_back(it.key());
   std::ostringstream csv;
   csv << std::setprecision(10) << sweep.key << ",particles,steps,threads,wall_time_s";
   for (const auto& e : error_names) csv << ',' << e;
   csv << '\n';
   for (std::size_t k = 0; k < reports.size(); ++k) {
     std::size_t particles = 0;
-    for (const auto& n : reports[k].particles) particles += n.get<std::size_t>();
+    for (const auto& n : reports[k].particles.json()) particles += n.get<std::size_t>();
     csv << sweep.values[k] << ',' << particles << ',' << reports[k].steps << ',' << reports[k].threads << ','
         << reports[k].wall_time_s;
     for (const auto& e : error_names) csv << ',' << reports[k].errors.value(e, std::nan(""));

@@ -45,7 +45,7 @@ Outputs run(const std::string& scene_name, const std::vector<std::string>& assig
     const auto extension = file.path().extension();
     if (extension == ".vtu" || extension == ".csv") r.files[file.path().filename().string()] = test::bytes_of(file.path());
   }
-  r.results = test::physics_only(ctx.report.results);
+  r.results = test::physics_only(ctx.report.results.json());
   return r;
 }
 

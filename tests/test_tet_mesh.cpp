@@ -463,7 +463,7 @@ TEST(TetMeshHeart, HeartRunsOnAnOpenCarpMeshPacedAtMeshNodes) {
   };
   const auto r = run({"stimulus_site=nodes", "stimulus_nodes=" + (folder / "apex.vtx").string(), "stimulus_radius=3"});
   EXPECT_EQ(r.status, "completed");
-  const auto particles = r.particles.begin().value().get<double>();
+  const auto particles = r.particles.json().begin().value().get<double>();
   const auto stimulated = r.results.at("stimulated_particles").get<double>();
   std::printf("[ measured ] heart on %zu tetrahedra (openCARP, um): %.0f particles, %.0f stimulated at %zu apical nodes, "
               "fibres %s\n",

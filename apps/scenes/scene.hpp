@@ -9,6 +9,9 @@
 #include <string>
 #include <vector>
 
+// Scenes write their report's sections (results, errors) as JSON values.
+#include <nlohmann/json.hpp>
+
 #include "libsph/io/checkpoint.hpp"
 #include "libsph/io/parameters.hpp"
 #include "libsph/io/run_report.hpp"

@@ -9,6 +9,7 @@
 #include <limits>
 #include <type_traits>
 
+#include <nlohmann/json.hpp>
 #include <toml++/toml.h>
 
 namespace sph {
@@ -108,7 +109,7 @@ void Parameters::add_number(const std::string& key, T& value, const std::string&
     value = static_cast<T>(v);
   };
   e.text = [&value, text_of] { return text_of(double(value)); };
-  e.json = [&value] { return nlohmann::json(value); };
+  e.json = [&value](nlohmann::json& out) { out = nlohmann::json(value); };
   e.check = [&value, check](const std::string& origin) { check(double(value), origin); };
   add_entry(std::move(e));
 }
@@ -134,7 +135,7 @@ void Parameters::add(const std::string& key, bool& value, const std::string& hel
     else throw ParameterError("parameter " + quoted(key) + where(origin) + ": " + quoted(text) + " is not true or false");
   };
   e.text = [&value] { return std::string(value ? "true" : "false"); };
-  e.json = [&value] { return nlohmann::json(value); };
+  e.json = [&value](nlohmann::json& out) { out = nlohmann::json(value); };
   e.check = [](const std::string&) {};
   add_entry(std::move(e));
 }
@@ -143,7 +144,7 @@ void Parameters::add_text(const std::string& key, std::string& value, const std:
   Entry e{key, "", help, Range::any(), {}, {}, {}, {}, {}};
   e.parse = [&value](const std::string& text, const std::string&) { value = text; };
   e.text = [&value] { return value; };
-  e.json = [&value] { return nlohmann::json(value); };
+  e.json = [&value](nlohmann::json& out) { out = nlohmann::json(value); };
   e.check = [](const std::string&) {};
   add_entry(std::move(e));
 }
@@ -152,7 +153,7 @@ void Parameters::add_path(const std::string& key, std::filesystem::path& value, 
   Entry e{key, "", help, Range::any(), {}, {}, {}, {}, {}};
   e.parse = [&value](const std::string& text, const std::string&) { value = text; };
   e.text = [&value] { return value.string(); };
-  e.json = [&value] { return nlohmann::json(value.string()); };
+  e.json = [&value](nlohmann::json& out) { out = nlohmann::json(value.string()); };
   e.check = [](const std::string&) {};
   add_entry(std::move(e));
 }
@@ -182,7 +183,7 @@ void Parameters::add_vector(const std::string& key, Eigen::Vector3d& value, cons
     value = v;
   };
   e.text = text_of;
-  e.json = [&value] { return nlohmann::json::array({value.x(), value.y(), value.z()}); };
+  e.json = [&value](nlohmann::json& out) { out = nlohmann::json::array({value.x(), value.y(), value.z()}); };
   e.check = [&value, check, text_of](const std::string& origin) { check(value, text_of(), origin); };
   add_entry(std::move(e));
 }
@@ -200,7 +201,7 @@ void Parameters::add_named_choice(const std::string& key, std::vector<std::strin
     select(static_cast<std::size_t>(it - choices.begin()));
   };
   e.text = current;
-  e.json = [current] { return nlohmann::json(current()); };
+  e.json = [current](nlohmann::json& out) { out = nlohmann::json(current()); };
   e.check = [](const std::string&) {};
   add_entry(std::move(e));
 }
@@ -219,7 +220,7 @@ void Parameters::add_choice(const std::string& key, std::string& value, std::vec
     value = text;
   };
   e.text = [&value] { return value; };
-  e.json = [&value] { return nlohmann::json(value); };
+  e.json = [&value](nlohmann::json& out) { out = nlohmann::json(value); };
   e.check = [&value, check](const std::string& origin) { check(value, origin); };
   add_entry(std::move(e));
 }
@@ -305,7 +306,7 @@ void Parameters::check() const {
 
 nlohmann::json Parameters::to_json() const {
   nlohmann::json out = nlohmann::json::object();
-  for (const auto& e : entries_) out[e.key] = e.json();
+  for (const auto& e : entries_) e.json(out[e.key]);
   return out;
 }
 

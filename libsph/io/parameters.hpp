@@ -19,7 +19,7 @@
 #include <utility>
 #include <vector>
 
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include "libsph/core/types.hpp"
 
@@ -132,7 +132,7 @@ class Parameters {
     std::vector<std::string> choices;
     std::function<void(const std::string&, const std::string&)> parse;  // (text, origin)
     std::function<std::string()> text;
-    std::function<nlohmann::json()> json;
+    std::function<void(nlohmann::json&)> json;  // writes the current value
     std::function<void(const std::string&)> check;  // origin
   };
   Entry& entry(const std::string& key, const std::string& origin);

@@ -4,6 +4,8 @@
 
 #include <chrono>
 
+#include <nlohmann/json.hpp>
+
 #include "libsph/core/numerical_failure.hpp"
 #include "libsph/io/parameters.hpp"
 #include "libsph/io/progress.hpp"

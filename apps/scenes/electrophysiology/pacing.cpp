@@ -4,6 +4,8 @@
 #include <limits>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "apps/plot.hpp"
 #include "libsph/io/atomic_file.hpp"
 
