@@ -192,7 +192,7 @@ TEST(ElasticSolid, QuadraticReconstructionIsExactForQuadraticMotion) {
   for (int quadratic = 0; quadratic < 2; ++quadratic) {
     auto block = make_block(10, true);
     auto settings = neo_hookean_settings();
-    settings.numerics.deformation_gradient = quadratic ? "quadratic" : "corrected";
+    settings.numerics.deformation_gradient = quadratic ? sph::DeformationGradient::quadratic : sph::DeformationGradient::corrected;
     sph::ElasticSolid<3> solid(block.body, block.relation, settings);
     std::vector<Mat3> exact(block.body.n_particles());
     for (std::size_t i = 0; i < exact.size(); ++i) block.body.position[i] = motion(block.body.position[i], exact[i]);
@@ -245,13 +245,21 @@ DerivativeCheck energy_derivative_check(sph::ElasticSolid<3>& solid, Block& bloc
 // reconstructions with the energy-based hourglass control.
 TEST(ElasticSolid, ForceIsTheEnergyDerivative) {
   struct Case {
-    const char* reconstruction;
-    const char* hourglass;
+    sph::DeformationGradient reconstruction;
+    sph::HourglassControl hourglass;
     Real alpha;
-    const char* quadrature;
+    sph::Quadrature quadrature;
   };
-  for (const Case c : {Case{"quadratic", "penalty", 0, "nodal"}, Case{"quadratic", "energy", 1, "nodal"},
-                       Case{"corrected", "energy", 1, "nodal"}, Case{"quadratic", "energy", 1, "gauss"}}) {
+  using sph::DeformationGradient, sph::HourglassControl, sph::Quadrature;
+  const auto name_of = [](const auto& names, auto value) {
+    for (const auto& [name, v] : names)
+      if (v == value) return name.c_str();
+    return "?";
+  };
+  for (const Case c : {Case{DeformationGradient::quadratic, HourglassControl::penalty, 0, Quadrature::nodal},
+                       Case{DeformationGradient::quadratic, HourglassControl::energy, 1, Quadrature::nodal},
+                       Case{DeformationGradient::corrected, HourglassControl::energy, 1, Quadrature::nodal},
+                       Case{DeformationGradient::quadratic, HourglassControl::energy, 1, Quadrature::gauss}}) {
     auto block = make_block(5, true);
     auto settings = neo_hookean_settings();
     settings.numerics.deformation_gradient = c.reconstruction;
@@ -264,7 +272,8 @@ TEST(ElasticSolid, ForceIsTheEnergyDerivative) {
     for (auto& x : block.body.position) x += block.dp * Vec3(Real(noise(rng)), Real(noise(rng)), Real(noise(rng)));
     const auto [worst, scale] = energy_derivative_check(solid, block, {0, 12, 62, 124});
     std::printf("%s, hourglass %s (alpha %g), %s quadrature: max |rho0 V a + dE/dx| = %.2e against |force| up to %.2e\n",
-                c.reconstruction, c.hourglass, double(c.alpha), c.quadrature, worst, scale);
+                name_of(sph::deformation_gradient_names(), c.reconstruction), name_of(sph::hourglass_control_names(), c.hourglass),
+                double(c.alpha), name_of(sph::quadrature_names(), c.quadrature), worst, scale);
     EXPECT_LT(worst, test::bound(1e-5, 1e-2) * scale);
   }
 }
@@ -302,8 +311,8 @@ TEST(ElasticSolid, GaussQuadratureIntegratesTheCellEnergy) {
   for (const bool gauss : {false, true}) {
     auto block = make_block(10, false);
     auto s = settings;
-    s.numerics.deformation_gradient = "quadratic";
-    s.numerics.quadrature = gauss ? "gauss" : "nodal";
+    s.numerics.deformation_gradient = sph::DeformationGradient::quadratic;
+    s.numerics.quadrature = gauss ? sph::Quadrature::gauss : sph::Quadrature::nodal;
     sph::ElasticSolid<3> solid(block.body, block.relation, s);
     for (auto& x : block.body.position) x = motion(x);
     error[gauss] = std::abs(solid.energies().strain - exact) / exact;
@@ -317,7 +326,7 @@ TEST(ElasticSolid, GaussQuadratureIntegratesTheCellEnergy) {
 TEST(ElasticSolid, GaussQuadratureNeedsTheQuadraticReconstruction) {
   auto block = make_block(4, false);
   auto settings = neo_hookean_settings();
-  settings.numerics.quadrature = "gauss";
+  settings.numerics.quadrature = sph::Quadrature::gauss;
   EXPECT_THROW(sph::ElasticSolid<3>(block.body, block.relation, settings), std::invalid_argument);
 }
 
@@ -332,7 +341,8 @@ TEST(ElasticSolid, ClampByReflectionContinuesTheMotionAcrossTheFace) {
     for (const bool reflection : {false, true}) {
       auto block = make_block(10, false);
       auto settings = neo_hookean_settings();
-      settings.numerics.deformation_gradient = reconstruction;
+      settings.numerics.deformation_gradient =
+          std::string(reconstruction) == "quadratic" ? sph::DeformationGradient::quadratic : sph::DeformationGradient::corrected;
       sph::ElasticSolid<3> solid(block.body, block.relation, settings);
       const Real face = 3 * block.dp;
       std::vector<sph::Index> held;
@@ -357,8 +367,8 @@ TEST(ElasticSolid, ClampByReflectionContinuesTheMotionAcrossTheFace) {
 
   auto block = make_block(6, true);
   auto settings = neo_hookean_settings();
-  settings.numerics.deformation_gradient = "quadratic";
-  settings.numerics.hourglass_control = "energy";
+  settings.numerics.deformation_gradient = sph::DeformationGradient::quadratic;
+  settings.numerics.hourglass_control = sph::HourglassControl::energy;
   settings.numerics.hourglass_coefficient = 1;
   // Jittered lattice: the mirrors are made exact by placing the held particles at the images.
   const Real face = 2 * block.dp;
@@ -413,8 +423,9 @@ TEST(ElasticSolid, ForcesConserveMomentum) {
   auto block = make_block(8, true);
   auto settings = neo_hookean_settings();
   settings.numerics.hourglass_coefficient = 1;
-  settings.numerics.deformation_gradient = reconstruction == "corrected" ? "corrected" : "quadratic";
-  if (reconstruction == "quadratic+gauss") settings.numerics.quadrature = "gauss";
+  settings.numerics.deformation_gradient =
+      reconstruction == "corrected" ? sph::DeformationGradient::corrected : sph::DeformationGradient::quadratic;
+  if (reconstruction == "quadratic+gauss") settings.numerics.quadrature = sph::Quadrature::gauss;
   sph::ElasticSolid<3> solid(block.body, block.relation, settings);
   std::mt19937 rng(5);
   std::normal_distribution<double> noise(0, 0.02);

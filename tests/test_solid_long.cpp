@@ -22,7 +22,7 @@ TEST(SolidLong, LandBeamNodalSeriesConverges) {
   for (int k = 0; k < 3; ++k) {
     cardiosph::LandBeamParameters p;
     p.resolution = resolution[k];
-    p.numerics.solid.quadrature = "nodal";
+    p.numerics.solid.quadrature = sph::Quadrature::nodal;
     const auto r = run_scene(*cardiosph::make_land_beam_scene(p), "land_beam_" + std::to_string(resolution[k]));
     z[k] = r.results.at("tip_z_mm").get<double>();
     std::printf("land-beam resolution %ld (nodal): tip z %.4f mm, %.1f s\n", resolution[k], z[k], r.wall_time_s);
@@ -64,7 +64,7 @@ TEST(SolidLong, LandBeamAtSixAcross) {
 TEST(SolidLong, OscillatingBeamNodalAtTwentyAcross) {
   cardiosph::OscillatingBeamParameters p;
   p.resolution = 20;
-  p.numerics.solid.quadrature = "nodal";
+  p.numerics.solid.quadrature = sph::Quadrature::nodal;
   const auto r = run_scene(*cardiosph::make_oscillating_beam_scene(p), "beam_20");
   const double e = r.errors.at("period_relative").get<double>();
   std::printf("oscillating-beam H/dp=20: period error %.3f%% (bound 0.5%%), energy drift %.1e, %.1f s\n", 100 * e,

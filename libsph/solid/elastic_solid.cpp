@@ -24,13 +24,13 @@ void declare_parameters(Parameters& p, SolidNumerics& n, const std::string& time
   p.add("mass_scaling", n.mass_scaling, "-",
         "factor on the solid's inertia (density) for quasi-static runs: the acoustic step grows by its square root; "
         "1 = physical inertia", Range::closed(1, 1e6));
-  p.add_choice("hourglass_control", n.hourglass_control, {"penalty", "energy"},
+  p.add_enum("hourglass_control", n.hourglass_control, hourglass_control_names(),
                "zero-energy-mode control: penalty (Ganzenmueller 2015, not conservative) or energy (the derivative of "
                "alpha E / 4 sum_ij V_i V_j W_ij / r0^2 |F_i X_ij - x_ij|^2: conservative)");
-  p.add_choice("deformation_gradient", n.deformation_gradient, {"corrected", "quadratic"},
+  p.add_enum("deformation_gradient", n.deformation_gradient, deformation_gradient_names(),
                "reconstruction of F: corrected (kernel-corrected gradient, exact for linear motion) or quadratic (weighted "
                "least squares, exact for quadratic motion, also at free surfaces)");
-  p.add_choice("quadrature", n.quadrature, {"nodal", "gauss"},
+  p.add_enum("quadrature", n.quadrature, quadrature_names(),
                "integration of each particle's energy: nodal (at the particle) or gauss (Dim + 1 Gauss points in its cell, F "
                "continued by its gradient; needs deformation_gradient = quadratic)");
   p.add("fixed_time_step", n.fixed_time_step, time_unit,
@@ -120,19 +120,10 @@ ElasticSolid<Dim>::ElasticSolid(ParticleSet<Dim>& particles, const InnerRelation
       B[i] = moment.determinant() > Real(1e-6) ? Mat<Dim>(moment.transpose().inverse()) : Mat<Dim>::Identity();
     });
   }
-  if (settings_.numerics.hourglass_control != "penalty" && settings_.numerics.hourglass_control != "energy")
-    throw std::invalid_argument(body + ": hourglass control '" + settings_.numerics.hourglass_control +
-                                "' is neither 'penalty' nor 'energy'");
-  energy_hourglass_ = settings_.numerics.hourglass_control == "energy" && hourglass_factor_ > 0;
-  if (settings_.numerics.quadrature != "nodal" && settings_.numerics.quadrature != "gauss")
-    throw std::invalid_argument(body + ": quadrature '" + settings_.numerics.quadrature + "' is neither 'nodal' nor 'gauss'");
-  if (settings_.numerics.quadrature == "gauss" && settings_.numerics.deformation_gradient != "quadratic")
+  energy_hourglass_ = settings_.numerics.hourglass_control == HourglassControl::energy && hourglass_factor_ > 0;
+  if (settings_.numerics.quadrature == Quadrature::gauss && settings_.numerics.deformation_gradient != DeformationGradient::quadratic)
     throw std::invalid_argument(body + ": quadrature 'gauss' needs deformation_gradient 'quadratic' (the gradient of F)");
-  if (settings_.numerics.deformation_gradient == "quadratic")
-    build_quadratic_reconstruction();
-  else if (settings_.numerics.deformation_gradient != "corrected")
-    throw std::invalid_argument(body + ": deformation gradient '" + settings_.numerics.deformation_gradient +
-                                "' is neither 'corrected' nor 'quadratic'");
+  if (settings_.numerics.deformation_gradient == DeformationGradient::quadratic) build_quadratic_reconstruction();
   previous_position_.resize(n);
   previous_velocity_.resize(n);
   load_acceleration_.resize(n);
@@ -189,7 +180,7 @@ void ElasticSolid<Dim>::build_quadratic_reconstruction() {
   // Second derivatives (quadrature = "gauss"): d2x/dX_a dX_b = c_(ab) (a == b ? 2 : 1) / h^2 from the
   // coefficient c_(ab) of the monomial xi_a xi_b, so that G_d = dF/dX_d has the column
   // G_d e = sum_j (x_j - x_i) C_ij(e, d).
-  const bool gauss = settings_.numerics.quadrature == "gauss";
+  const bool gauss = settings_.numerics.quadrature == Quadrature::gauss;
   int monomial[Dim][Dim];
   for (int a = 0, m = Dim; a < Dim; ++a)
     for (int b = a; b < Dim; ++b) monomial[a][b] = monomial[b][a] = m++;

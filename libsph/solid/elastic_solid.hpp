@@ -73,6 +73,7 @@
 #include <functional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "libsph/core/neighbour_relation.hpp"
@@ -83,6 +84,28 @@
 namespace sph {
 
 class Parameters;
+
+/// Zero-energy-mode control of SolidNumerics (parameter hourglass_control).
+enum class HourglassControl { penalty, energy };
+/// Reconstruction of F of SolidNumerics (parameter deformation_gradient).
+enum class DeformationGradient { corrected, quadratic };
+/// Integration of a particle's energy of SolidNumerics (parameter quadrature).
+enum class Quadrature { nodal, gauss };
+/// The parameter values of each choice, as add_enum takes them.
+inline const std::vector<std::pair<std::string, HourglassControl>>& hourglass_control_names() {
+  static const std::vector<std::pair<std::string, HourglassControl>> names{{"penalty", HourglassControl::penalty},
+                                                                           {"energy", HourglassControl::energy}};
+  return names;
+}
+inline const std::vector<std::pair<std::string, DeformationGradient>>& deformation_gradient_names() {
+  static const std::vector<std::pair<std::string, DeformationGradient>> names{{"corrected", DeformationGradient::corrected},
+                                                                              {"quadratic", DeformationGradient::quadratic}};
+  return names;
+}
+inline const std::vector<std::pair<std::string, Quadrature>>& quadrature_names() {
+  static const std::vector<std::pair<std::string, Quadrature>> names{{"nodal", Quadrature::nodal}, {"gauss", Quadrature::gauss}};
+  return names;
+}
 
 /// The numerical choices of a TLSPH solid (independent of the dimension). Scenes bind these members
 /// directly as parameters through declare_parameters.
@@ -99,15 +122,15 @@ struct SolidNumerics {
   /// Zero-energy-mode control with alpha = hourglass_coefficient: "penalty" (Ganzenmueller's force,
   /// not derived from an energy) or "energy" (the derivative of a quadratic energy in the same
   /// defects: conservative); see docs/solid.md.
-  std::string hourglass_control = "penalty";
+  HourglassControl hourglass_control = HourglassControl::penalty;
   /// How F is reconstructed from the positions: "corrected" (the kernel-corrected gradient, exact for
   /// linear motion) or "quadratic" (weighted least squares on a quadratic basis, exact for quadratic
   /// motion at free surfaces too); see docs/solid.md.
-  std::string deformation_gradient = "corrected";
+  DeformationGradient deformation_gradient = DeformationGradient::corrected;
   /// How the energy of a particle's cell is integrated: "nodal" (V_i W(F_i), the midpoint rule) or
   /// "gauss" (Dim + 1 Gauss points in the cell, F continued linearly by the gradient of F that the
   /// quadratic reconstruction gives; needs deformation_gradient = "quadratic"); see docs/solid.md.
-  std::string quadrature = "nodal";
+  Quadrature quadrature = Quadrature::nodal;
 };
 
 /// Declares hourglass_coefficient, artificial_viscosity, acoustic_cfl, tangent_time_step, mass_scaling and

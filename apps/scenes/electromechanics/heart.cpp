@@ -944,7 +944,7 @@ class HeartScene final : public Scene {
     // the pair viscosity, which damp the particle-scale modes that physiological tension excites,
     // and a step of 0.45 of the acoustic limit (at 0.6 the transversely isotropic wall inverted).
     p_.numerics.solid.mass_scaling = 4;
-    p_.numerics.solid.hourglass_control = "energy";
+    p_.numerics.solid.hourglass_control = sph::HourglassControl::energy;
     p_.numerics.solid.artificial_viscosity = Real(0.25);
     p_.numerics.solid.cfl = Real(0.45);
     // The closed loop of Regazzoni et al. 2022 for this heart, whose cavities hold about half the

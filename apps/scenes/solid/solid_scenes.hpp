@@ -34,7 +34,7 @@ struct OscillatingBeamParameters {
   double velocity_factor = 0.05;  ///< vf: tip speed vf c0, c0 = sqrt(K / rho)
   std::string material = "neo_hookean";  ///< neo_hookean or saint_venant_kirchhoff
   std::string clamp = "reflection";  ///< reflection or fixed (see ElasticSolid::clamp_by_reflection)
-  SolidSceneNumerics numerics{.solid = {.hourglass_control = "energy", .deformation_gradient = "quadratic", .quadrature = "gauss"}};
+  SolidSceneNumerics numerics{.solid = {.hourglass_control = sph::HourglassControl::energy, .deformation_gradient = sph::DeformationGradient::quadratic, .quadrature = sph::Quadrature::gauss}};
 };
 
 struct CantileverParameters {
@@ -77,7 +77,7 @@ struct LandBeamParameters {
   std::string solver = "quasi_static";  ///< quasi_static (stop on the residual) or dynamic (to end_time)
   std::string clamp = "reflection";     ///< reflection or fixed (see ElasticSolid::clamp_by_reflection)
   sph::RelaxationSettings relaxation;
-  SolidSceneNumerics numerics{.solid = {.deformation_gradient = "quadratic", .quadrature = "gauss"}};
+  SolidSceneNumerics numerics{.solid = {.deformation_gradient = sph::DeformationGradient::quadratic, .quadrature = sph::Quadrature::gauss}};
 };
 
 struct HomogeneousDeformationParameters {
