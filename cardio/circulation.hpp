@@ -252,6 +252,8 @@ class Circulation {
   double pressure_at_volume(Ventricle v, double volume) const {
     return reference_pressure_[index(v)] + (ventricle_blood_volume(v) - volume) / settings_.cavity_compliance;
   }
+  /// p_ref of a coupled ventricle [kPa] (set by initialise()).
+  double reference_pressure(Ventricle v) const { return reference_pressure_[index(v)]; }
   /// V_b of a coupled ventricle, V of an elastance one [mm^3].
   double ventricle_blood_volume(Ventricle v) const { return state_[ventricle_node_[index(v)]]; }
   /// V_3D of a coupled ventricle (its last value), V of an elastance one [mm^3].

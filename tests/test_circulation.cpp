@@ -2,7 +2,8 @@
 // ventricles (blood volume conserved to round-off, a periodic beat in the healthy ranges), the
 // isovolumic phases of a coupled ventricle (V_b held, V_3D moving by C_c times the pressure change),
 // the three-element Windkessel against its closed-form solution for a constant ejection flow,
-// stability at a 10 ms step with the stiff coupled cavity, and the refusal of bad settings.
+// stability at a 10 ms step with the stiff coupled cavity, the refusal of bad settings, and the
+// coupling to 3D cavities (cardio/circulation_coupling.hpp): preload, start and volume penalty.
 
 #include <gtest/gtest.h>
 
@@ -15,6 +16,8 @@
 
 #include "cardio/beat_metrics.hpp"
 #include "cardio/circulation.hpp"
+#include "cardio/circulation_coupling.hpp"
+#include "tests/tetrahedral_cavity.hpp"
 #include "libsph/io/parameters.hpp"
 
 namespace {
@@ -363,3 +366,81 @@ TEST(Circulation, BeatMeasuresOfARectangularLoop) {
   EXPECT_NEAR(m.dpdt_max, 14.0 / 50, 1e-9);
   EXPECT_NEAR(m.dpdt_min, -14.0 / 70, 1e-9);
 }
+
+// The circulation coupled to two 3D cavities (cardio/circulation_coupling.hpp): the preload ramp,
+// the start with V_b = V_3D at the preload pressures, the coupled steps and the volume penalty the
+// cavities take, in the stage that add_circulation_coupling declares.
+namespace coupling {
+
+using tetrahedral_cavity::Block;
+using tetrahedral_cavity::corners;
+using tetrahedral_cavity::tetrahedron;
+using Vec3 = sph::Vec<3>;
+
+std::vector<cardio::CavitySurface> lv_and_rv(const Block& b) {
+  return {tetrahedron(b.body, corners(b.body), cardio::label_lv_endo),
+          tetrahedron(b.body, corners(b.body, Vec3(1, 1, 1)), cardio::label_rv_endo)};
+}
+
+const cardio::CavityPressureSettings preload{cardio::CavityPressureMode::circulation, 1.2, 0.4, 5};
+
+TEST(CirculationCoupling, RefusesCavitiesWithoutBothEndocardia) {
+  Block b;
+  cardio::Cavities lv_only(b.solid, {tetrahedron(b.body, corners(b.body), cardio::label_lv_endo)}, preload);
+  try {
+    cardio::CirculationCoupling(CirculationSettings{}, 800, preload, 10, lv_only);
+    FAIL() << "no RV endocardium accepted";
+  } catch (const sph::ParameterError& e) {
+    EXPECT_TRUE(contains(e.what(), "no RV endocardium")) << e.what();
+  }
+}
+
+TEST(CirculationCoupling, PreloadRampsThenTheCirculationStartsAndLoadsTheCavitiesThroughThePenalty) {
+  Block b;
+  cardio::Cavities cavities(b.solid, lv_and_rv(b), preload);
+  cardio::CirculationCoupling coupling(CirculationSettings{}, 800, preload, 10, cavities);
+  EXPECT_FALSE(coupling.started());
+  EXPECT_EQ(coupling.circulation().settings().lv_mode, VentricleMode::coupled);
+  EXPECT_EQ(coupling.circulation().ventricle_3d_volume(Ventricle::left), cavities.volume(coupling.lv()));
+  sph::TimeStepper stepper(0, 12);
+  stepper.add_stage(sph::make_stage("tissue", [] { return sph::Real(3); }, [](sph::Real, sph::Real) {}));
+  cardio::add_circulation_coupling(stepper, coupling, cavities);
+  std::vector<double> lv_pressure;
+  std::vector<bool> started, advanced;
+  stepper.add_step_callback([&](const sph::StepInfo& s) {
+    lv_pressure.push_back(cavities.pressure(coupling.lv()).at(s.time));
+    started.push_back(coupling.started());
+    advanced.push_back(coupling.advanced());
+    if (s.time == 2.5) EXPECT_NEAR(cavities.pressure(coupling.rv()).at(s.time), 0.4 * 2.5 / 5, 1e-15);
+  });
+  stepper.run();
+  // Steps end at 2.5, 5, 7.5, 10 (the start, an event) and 12.
+  ASSERT_EQ(lv_pressure.size(), 5u);
+  EXPECT_NEAR(lv_pressure[0], 1.2 * 2.5 / 5, 1e-15);
+  EXPECT_EQ(lv_pressure[2], 1.2);
+  EXPECT_EQ(started, (std::vector<bool>{false, false, false, true, true}));
+  EXPECT_EQ(advanced, (std::vector<bool>{false, false, false, false, true}));
+  EXPECT_NEAR(coupling.circulation().time(), 2, 1e-12);  // its time 0 is the start
+  EXPECT_NEAR(coupling.initial_blood_volume(), coupling.circulation().total_blood_volume(), 1e-9 * coupling.initial_blood_volume());
+  // Each cavity takes p = p_ref + (V_b - V) / C_c of its ventricle.
+  for (const auto [c, v] : {std::pair{coupling.lv(), Ventricle::left}, std::pair{coupling.rv(), Ventricle::right}}) {
+    const auto& penalty = cavities.penalty(c);
+    ASSERT_TRUE(penalty.has_value());
+    const double V = cavities.volume(c);
+    EXPECT_EQ(penalty->reference_pressure + (penalty->blood_volume - V) / penalty->compliance,
+              coupling.circulation().pressure_at_volume(v, V));
+    EXPECT_EQ(cavities.pressure(c).at(12), coupling.circulation().pressure(v));
+  }
+}
+
+TEST(CirculationCoupling, StartsAtOnceWithoutPreloadAtTheCavityPressures) {
+  Block b;
+  cardio::Cavities cavities(b.solid, lv_and_rv(b), preload);
+  const cardio::CirculationCoupling coupling(CirculationSettings{}, 800, preload, 0, cavities);
+  EXPECT_TRUE(coupling.started());
+  EXPECT_NEAR(coupling.circulation().pressure(Ventricle::left), 1.2, 1e-12);
+  EXPECT_NEAR(coupling.circulation().pressure(Ventricle::right), 0.4, 1e-12);
+  EXPECT_TRUE(cavities.penalty(coupling.lv()).has_value());
+}
+
+}  // namespace coupling

@@ -9,7 +9,7 @@
 //              pressure 15 kPa and active tension T_a = 60 kPa along the fibres (S_a = T_a f0 (x) f0).
 // The loads are ramped linearly over ramp_time and held; the quasi-static state is reached by
 // damped dynamics (the density only sets the pseudo-time scale). The pressure acts on the
-// endocardial faces of the mesh as a follower load (cardio/cavity.hpp).
+// endocardial faces of the mesh as a follower load (cardio/cavities.hpp).
 // Quantities: final z of the endocardial apex (0, 0, -17), the epicardial apex (0, 0, -20) and the
 // mid-wall apex (0, 0, -18.5), each by the first-order reconstruction from the particles around it.
 // Published values (read from Land et al. 2015, figs. 6-7, as tabulated in the sagebei/torchcor
@@ -26,7 +26,7 @@
 #include "apps/scenes/geometry/heart_geometry_parameters.hpp"
 #include "apps/scenes/solid/solid_run.hpp"
 #include "libsph/core/point_probes.hpp"
-#include "cardio/cavity.hpp"
+#include "cardio/cavities.hpp"
 #include "libsph/core/parallel.hpp"
 
 namespace cardiosph {
@@ -154,10 +154,12 @@ class LandLvScene final : public Scene {
 
     const auto mesh = read_geometry_mesh(gs);
     std::vector<Real> volumes(body.volume.begin(), body.volume.end());
-    const auto cavities = cardio::cavity_surfaces(mesh, cavity_face_labels(mesh, g), body.position, volumes, g.labels, dp, kernel, h);
-    if (cavities.empty() || cavities[0].label != cardio::label_lv_endo)
+    // The endocardial pressure p(t) = pressure min(1, t / ramp_time), a follower load on the wall
+    // (cardio/cavities.hpp).
+    const cardio::Cavities cavities(solid, cardio::cavity_surfaces(mesh, cavity_face_labels(mesh, g), body.position, volumes, g.labels, dp, kernel, h),
+                                    {cardio::CavityPressureMode::ramp, pressure, 0, p_.ramp_time});
+    if (cavities.size() == 0 || cavities.surface(0).label != cardio::label_lv_endo)
       throw std::invalid_argument("land-lv: the mesh has no LV endocardium");
-    const auto& lv = cavities[0];
     const double ramp = p_.ramp_time;
     auto ramp_factor = [ramp](double t) { return ramp > 0 ? std::min(1.0, t / ramp) : 1.0; };
     const auto X = body.field(solid.reference_position_field());
@@ -170,25 +172,22 @@ class LandLvScene final : public Scene {
       const auto x = material_point_positions<3>(apex, solid);
       return std::array<double, 3>{x[0][2], x[1][2], x[2][2]};
     };
-    double endo_z_at_nine_tenths = std::nan("");
+    sph::RunRecord record;
+    double& endo_z_at_nine_tenths = record.value("endo_z_at_nine_tenths", std::nan(""));
     SolidRunPlan plan;
     plan.scene = "land-lv";
     plan.end_time = p_.end_time;
     plan.output_interval = p_.numerics.discretisation.output_interval;
     plan.before_step = [&](Real t, Real dt) { set_tension(double(t + dt / 2)); };
-    const auto external = solid.external_force_field();
-    plan.loads.push_back({"cavity pressure", [&, external](Real t, Real dt) {
-                            lv.add_pressure_forces(Real(pressure * ramp_factor(double(t + dt / 2))), body.position,
-                                                   body.field(solid.deformation_gradient_field()), X, body.field(external));
-                          }});
+    plan.loads.push_back({"cavity pressure", sph::coupling(solid, cavities, sph::same_particles)});
     plan.observer_columns = {"endo_z", "epi_z", "midwall_z", "lv_volume"};
     plan.observers = [&](const sph::StepInfo& s) {
       const auto [endo, epi, mid] = apex_z();  // also leaves F at the current positions
-      const double volume = lv.volume(body.position, body.field(solid.deformation_gradient_field()), X);
+      const double volume = cavities.volume(0);
       if (std::isnan(endo_z_at_nine_tenths) && s.time >= 0.9 * p_.end_time) endo_z_at_nine_tenths = endo;
       return std::vector<double>{endo, epi, mid, volume};
     };
-    plan.state = [&](sph::StateArchive& a) { a.io("endo_z_at_nine_tenths", endo_z_at_nine_tenths); };
+    plan.keep("record", record);
     set_tension(0);
     run_solid<3>(solid, relation, plan, ctx);
 
@@ -201,8 +200,8 @@ class LandLvScene final : public Scene {
     r.results["apex_z_epi_mm"] = epi;
     r.results["apex_z_midwall_mm"] = mid;
     r.results["apex_z_endo_change_last_tenth_mm"] = endo - endo_z_at_nine_tenths;
-    r.results["lv_reference_volume_mm3"] = lv.reference_volume;
-    r.results["lv_final_volume_mm3"] = lv.volume(body.position, body.field(solid.deformation_gradient_field()), X);
+    r.results["lv_reference_volume_mm3"] = cavities.surface(0).reference_volume;
+    r.results["lv_final_volume_mm3"] = cavities.volume(0);
     r.results["pressure_kPa"] = pressure;
     r.results["active_tension_kPa"] = tension;
     auto compare = [&](const std::string& name, double value, const Published& published) {
