@@ -578,4 +578,59 @@ TEST(ElasticSolid, RejectsBadSettings) {
   EXPECT_THROW(sph::ElasticSolid<3>(block.body, block.relation, settings), std::invalid_argument);
 }
 
+// The step in phases: the solid's stage (with an empty loads slot) and advance() run the same
+// phases in the same order, so they give the same state bit for bit.
+TEST(ElasticSolidPhases, StageAndAdvanceAreTheSameStep) {
+  auto a = make_block(5, true), b = make_block(5, true);
+  sph::ElasticSolid<3> one(a.body, a.relation, neo_hookean_settings()), two(b.body, b.relation, neo_hookean_settings());
+  for (auto [block, solid] : {std::pair{&a, &one}, std::pair{&b, &two}}) {
+    auto v = block->body.field(solid->velocity_field());
+    for (std::size_t i = 0; i < v.size(); ++i) v[i] = Vec3(Real(0.01) * block->body.position[i][1], 0, 0);
+  }
+  const sph::Stage step = two.stage("solid");
+  const Real dt = one.stable_time_step();
+  for (int k = 0; k < 20; ++k) {
+    one.advance(Real(k) * dt, dt);
+    step.run_step(Real(k) * dt, dt);
+  }
+  EXPECT_EQ(a.body.position, b.body.position);
+}
+
+// A coupling in the loads slot adds its force at the mid-step and acts as any load: a force per
+// particle equal to the dead traction t A_k on the top face gives the traction load's motion (to
+// round-off: the traction is scaled by A_k / (rho V) in one product, the force by 1 / (rho V)).
+TEST(ElasticSolidPhases, ForceInTheLoadsSlotActsAsALoad) {
+  auto a = make_block(5, false), b = make_block(5, false);
+  sph::ElasticSolid<3> traction(a.body, a.relation, neo_hookean_settings()), coupled(b.body, b.relation, neo_hookean_settings());
+  std::vector<sph::Index> top;
+  for (std::size_t i = 0; i < a.body.n_particles(); ++i)
+    if (a.body.position[i][2] > 1 - a.dp) top.push_back(static_cast<sph::Index>(i));
+  const Real area = a.dp * a.dp;
+  const Vec3 t(0, Real(0.5), Real(2));
+  traction.add_traction_load(top, std::vector<Real>(top.size(), area), [t](Real) { return t; });
+  const auto external = coupled.external_force_field();
+  sph::Stage step = coupled.stage("solid");
+  int calls = 0;
+  step.fill(coupled.loads_slot(), "top traction", [&](Real, Real) {
+    auto f = b.body.field(external);
+    for (const auto i : top) f[i] += t * area;
+    ++calls;
+  });
+  const Real dt = traction.stable_time_step();
+  for (int k = 0; k < 20; ++k) {
+    traction.advance(Real(k) * dt, dt);
+    step.run_step(Real(k) * dt, dt);
+  }
+  EXPECT_EQ(calls, 20);
+  double worst = 0;
+  for (std::size_t i = 0; i < a.body.n_particles(); ++i)
+    worst = std::max(worst, double((a.body.position[i] - b.body.position[i]).norm()));
+  const auto X = a.body.field(traction.reference_position_field());
+  double displacement = 0;
+  for (std::size_t i = 0; i < a.body.n_particles(); ++i) displacement = std::max(displacement, double((a.body.position[i] - X[i]).norm()));
+  std::printf("largest displacement %.3e, largest difference traction load - slot force %.3e\n", displacement, worst);
+  EXPECT_GT(displacement, 0.0);
+  EXPECT_LT(worst, test::bound(1e-12, 1e-5) * displacement);
+}
+
 }  // namespace
