@@ -80,40 +80,36 @@ FluidRunSummary run_fluid(sph::WeaklyCompressibleFluid<Dim>& fluid, std::vector<
 
   FluidRunSummary summary;
   const double c0 = fluid.settings().equation_of_state.sound_speed;
-  // The energy series and what it keeps: the initial and largest energy, the largest rise and Mach number.
-  struct EnergyRecord {
-    FluidRunSummary& summary;
-    bool first = true;
-    double largest_energy = 0;
-    void checkpoint(sph::StateArchive& a) {
-      a.io("first", first);
-      a.io("largest_energy", largest_energy);
-      a.io("initial_energy", summary.initial_energy);
-      a.io("max_energy_rise", summary.max_energy_rise);
-      a.io("max_mach", summary.max_mach);
-    }
-  } energy{summary};
+  // What the energy series keeps: the first and the largest energy, the largest rise and Mach number.
+  sph::RunRecord record;
+  double& samples = record.value("samples");
+  double& initial_energy = record.value("initial_energy");
+  double& largest_energy = record.value("largest_energy");
+  double& max_energy_rise = record.value("max_energy_rise");
+  double& max_mach = record.value("max_mach");
   const auto sample_interval = static_cast<sph::Real>(plan.sample_interval > 0 ? plan.sample_interval : plan.end_time / 200);
   run.add_time_series(body.name() + "_energy.csv", {"kinetic", "potential", "internal", "total", "max_speed"},
                       sample_interval, [&](const sph::StepInfo&) {
                         const auto e = fluid.energies();
                         const double speed = fluid.max_speed();
-                        if (energy.first) summary.initial_energy = e.total();
-                        energy.first = false;
-                        energy.largest_energy = std::max(energy.largest_energy, std::abs(e.total()));
-                        const double scale = std::max({std::abs(summary.initial_energy), energy.largest_energy, 1e-300});
-                        summary.max_energy_rise = std::max(summary.max_energy_rise, (e.total() - summary.initial_energy) / scale);
-                        summary.max_mach = std::max(summary.max_mach, speed / c0);
+                        if (samples == 0) initial_energy = e.total();
+                        samples += 1;
+                        largest_energy = std::max(largest_energy, std::abs(e.total()));
+                        const double scale = std::max({std::abs(initial_energy), largest_energy, 1e-300});
+                        max_energy_rise = std::max(max_energy_rise, (e.total() - initial_energy) / scale);
+                        max_mach = std::max(max_mach, speed / c0);
                         return std::vector<double>{e.kinetic, e.potential, e.internal, e.total(), speed};
                       });
-  if (!plan.observer_columns.empty()) run.add_time_series("observers.csv", plan.observer_columns, sample_interval, plan.observers);
-  run.add_state("fluid/" + body.name(), [&](sph::StateArchive& a) { fluid.checkpoint(a); });
-  run.add_state("fluid_run", [&](sph::StateArchive& a) { energy.checkpoint(a); });
-  for (const auto& [name, state] : plan.records) run.add_state("scene/" + name, state);
+  plan.attach(run, sample_interval);
+  run.keep("fluid/" + body.name(), fluid);
+  run.keep("fluid_run", record);
   ctx.report.results["sound_speed"] = c0;
   ctx.report.results["smoothing_length"] = fluid.settings().smoothing_length;
   ctx.report.results["particle_spacing"] = fluid.settings().particle_spacing;
   auto fill = [&] {
+    summary.initial_energy = initial_energy;
+    summary.max_energy_rise = max_energy_rise;
+    summary.max_mach = max_mach;
     summary.advection_steps = fluid.advection_steps();
     summary.acoustic_steps = fluid.acoustic_steps();
     summary.time_loop_seconds = run.time_loop_seconds();

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "apps/scenes/discretisation.hpp"
+#include "apps/scenes/run_plan.hpp"
 #include "apps/scenes/scene.hpp"
 #include "geometry/shape.hpp"
 #include "geometry/wall_particles.hpp"
@@ -59,26 +60,10 @@ template <int Dim>
 geometry::WallParticles<Dim> box_walls(const std::string& name, const sph::Vec<Dim>& lower, const sph::Vec<Dim>& upper,
                                        sph::Real dp, int layers, std::array<bool, Dim> periodic = {});
 
-struct FluidRunPlan {
-  std::string scene;
-  double end_time = 0;
-  double output_interval = 0;   ///< 0: first and last state only
-  double sample_interval = 0;   ///< energies and observers (0: end_time / 200)
-  std::vector<std::string> observer_columns;  ///< columns of observers.csv after time (none: no file)
-  sph::RunHarness::Row observers;
-  std::function<void(const sph::StepInfo&)> every_step;  ///< after every advection step (may be empty)
+struct FluidRunPlan : RunPlan {  // sample_interval 0: end_time / 200 (also the energies)
   /// Adds bodies, couplings and open boundaries to the run (may be empty): their outputs on the
   /// harness, their couplings in the slots of the fluid's step (WeaklyCompressibleFluid::advection_stage).
   std::function<void(sph::RunHarness&, sph::Stage& fluid_step)> extend;
-  /// Keeps `record` in the checkpoints under `name`: a struct of what the scene's observers and
-  /// callbacks change over the run outside the bodies (extremes, sums, recorded curves), whose
-  /// member checkpoint(sph::StateArchive&) saves and loads all of it; it must outlive the run.
-  /// Checkpoints are taken only in scenes whose Scene::checkpoints() is true: those keep all they change.
-  template <class Record>
-  void keep(std::string name, Record& record) {
-    records.emplace_back(std::move(name), [&record](sph::StateArchive& a) { record.checkpoint(a); });
-  }
-  std::vector<std::pair<std::string, std::function<void(sph::StateArchive&)>>> records;
 };
 
 struct FluidRunSummary {

@@ -27,7 +27,7 @@ void declare_fsi_solid_numerics(sph::Parameters& p, FsiSolidNumerics& n) {
 void FsiBody::add_to(sph::RunHarness& run, sph::Stage& fluid_step, sph::Real output_interval) {
   run.add_body(particles, output_interval, [this](double) { solid->update_output_fields(); });
   coupling->fill(fluid_step, run.timers());
-  run.add_state("fsi/" + particles.name(), [this](sph::StateArchive& a) { checkpoint(a); });
+  run.keep("fsi/" + particles.name(), *this);
 }
 
 std::unique_ptr<FsiBody> make_fsi_body(sph::ParticleSet<2> particles, const std::vector<sph::Vec<2>>& normals,
