@@ -21,17 +21,10 @@ void CirculationCoupling::require_cavities(const Cavities& cavities) {
                               "(use cavity_pressure = none, constant or ramp)");
 }
 
-namespace {
-const Cavities& checked(const Cavities& cavities) {
-  CirculationCoupling::require_cavities(cavities);
-  return cavities;
-}
-}  // namespace
-
 CirculationCoupling::CirculationCoupling(const CirculationSettings& settings, double heart_period,
                                          const CavityPressureSettings& preload, double start_time, Cavities& cavities)
     : circulation_(coupled_settings(settings, heart_period)), preload_(preload), start_(start_time) {
-  checked(cavities);
+  require_cavities(cavities);
   for (std::size_t c = 0; c < cavities.size(); ++c)
     (cavities.surface(c).label == label_lv_endo ? lv_ : rv_) = c;
   targets_ = {preload.lv_pressure, preload.rv_pressure};

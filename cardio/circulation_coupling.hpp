@@ -70,8 +70,8 @@ class CirculationCoupling {
   double initial_blood_ = 0;
 };
 
-/// The circulation over the coupling step [time, time + dt] from the cavity volumes at its end
-/// (preload or coupled step, see above).
+/// The circulation over the coupling step [time, time + dt] from the cavity volumes at its end,
+/// time + dt (preload or coupled step, see above).
 void interact(CirculationCoupling& on, const Cavities& by, sph::SameParticles, Real time, Real dt);
 /// The cavity pressures after the circulation's step: the preload ramp at time + dt, or the
 /// circulation's pressure and its volume penalty.

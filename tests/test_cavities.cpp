@@ -62,7 +62,7 @@ TEST(Cavities, VolumeFollowsTheSolidAndThePressureLoadIsTheFaceForceAtMidStep) {
   for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_NEAR((force[i] - expected[i]).norm(), 0, 1e-12);
 }
 
-TEST(Cavities, WithoutPressureLoadNothingAndRefuseAnotherSolid) {
+TEST(Cavities, WithoutAPressureModeTheyAreNotLoadedAndTheyRefuseAnotherSolid) {
   Block b, other;
   const cardio::CavityPressureSettings none{cardio::CavityPressureMode::none, 3, 1, 10};
   const cardio::Cavities cavities(b.solid, {tetrahedron(b.body, corners(b.body), cardio::label_rv_endo)}, none);
