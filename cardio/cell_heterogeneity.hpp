@@ -72,8 +72,8 @@ std::vector<std::uint8_t> rv_ventricle(std::span<const double> lv, std::span<con
   for (std::size_t i = 0; i < lv.size(); ++i) {
     double difference = rv[i] - lv[i];
     if (lv[i] + rv[i] < 1e-9)
-      for (std::size_t k = relation.offsets[i]; k < relation.offsets[i + 1]; ++k)
-        difference += rv[relation.neighbour[k]] - lv[relation.neighbour[k]];
+      for (const auto [k, j] : relation.row(i))
+        difference += rv[j] - lv[j];
     in_rv[i] = difference > 0;
   }
   return in_rv;

@@ -79,8 +79,7 @@ void conduction_velocity(const sph::NeighbourList<Dim>& relation, std::span<cons
     velocity[i] = -1;
     if (activation[i] < 0) return;
     sph::Vec<Dim> sum = sph::Vec<Dim>::Zero();
-    for (std::size_t k = relation.offsets[i]; k < relation.offsets[i + 1]; ++k) {
-      const std::size_t j = relation.neighbour[k];
+    for (const auto [k, j] : relation.row(i)) {
       if (activation[j] < 0) return;
       sum += volume[j] * (activation[j] - activation[i]) * relation.kernel_derivative[k] * relation.unit_vector[k];
     }

@@ -81,8 +81,7 @@ std::vector<std::vector<double>> solve_laplace(const sph::InnerRelation<3>& rela
   for (std::size_t i = 0; i < n; ++i) {
     if (problem.fixed[i]) continue;
     double diagonal = 0;
-    for (std::size_t k = relation.offsets[i]; k < relation.offsets[i + 1]; ++k) {
-      const std::size_t j = relation.neighbour[k];
+    for (const auto [k, j] : relation.row(i)) {
       const double r = relation.distance[k];
       if (r <= 0) continue;
       const double c = volumes[i] * volumes[j] * 2 * std::abs(double(relation.kernel_derivative[k])) / r;
@@ -123,8 +122,7 @@ std::vector<Vec3> corrected_gradient(const sph::InnerRelation<3>& relation, cons
   std::vector<Vec3> g(u.size());
   sph::parallel_for(u.size(), [&](std::size_t i) {
     Vec3 sum = Vec3::Zero();
-    for (std::size_t k = relation.offsets[i]; k < relation.offsets[i + 1]; ++k) {
-      const std::size_t j = relation.neighbour[k];
+    for (const auto [k, j] : relation.row(i)) {
       sum += volumes[j] * (u[j] - u[i]) * double(relation.kernel_derivative[k]) * relation.unit_vector[k].cast<double>();
     }
     g[i] = correction[i].cast<double>() * sum;

@@ -92,8 +92,7 @@ std::vector<double> PseudoEcg::potentials(std::span<const Real> V, std::span<con
   // flux_j = J_j F_j D0_j G_j V0_j, the volume-weighted current-configuration flux of particle j.
   sph::parallel_for(n, [&](std::size_t i) {
     Vec3 sum = Vec3::Zero();
-    for (std::size_t k = relation_.offsets[i]; k < relation_.offsets[i + 1]; ++k) {
-      const std::size_t j = relation_.neighbour[k];
+    for (const auto [k, j] : relation_.row(i)) {
       sum += volume_[j] * (V[j] - V[i]) * relation_.kernel_derivative[k] * relation_.unit_vector[k];
     }
     const Vec3 q = D0[D0.size() == 1 ? 0 : i] * (correction_[i] * sum);

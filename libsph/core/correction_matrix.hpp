@@ -20,9 +20,9 @@ void compute_correction_matrix(const NeighbourList<Dim>& relation, std::span<con
                                std::span<Mat<Dim>> correction_matrix) {
   parallel_for(relation.n_targets(), [&](std::size_t i) {
     Mat<Dim> moment = Mat<Dim>::Zero();
-    for (std::size_t k = relation.offsets[i]; k < relation.offsets[i + 1]; ++k) {
+    for (const auto [k, j] : relation.row(i)) {
       const Vec<Dim>& e_ij = relation.unit_vector[k];
-      moment -= source_volume[relation.neighbour[k]] * relation.distance[k] * relation.kernel_derivative[k] *
+      moment -= source_volume[j] * relation.distance[k] * relation.kernel_derivative[k] *
                 (e_ij * e_ij.transpose());
     }
     correction_matrix[i] = moment.determinant() > Real(1e-6) ? Mat<Dim>(moment.inverse()) : Mat<Dim>::Identity();

@@ -59,6 +59,43 @@ struct PeriodicBox {
   }
 };
 
+/// One pair of a row: its place k in the pair arrays and its source j = neighbour[k].
+struct NeighbourPair {
+  std::size_t k;
+  Index j;
+};
+
+/// The pairs of one target in the relation's order, as (k, j):
+///   for (const auto [k, j] : relation.row(i)) sum += volume[j] * relation.kernel_value[k];
+/// is the loop for (k = offsets[i]; k < offsets[i + 1]; ++k) { j = neighbour[k]; ... }.
+class NeighbourRow {
+ public:
+  class iterator {
+   public:
+    iterator(const Index* neighbour, std::size_t k) : neighbour_(neighbour), k_(k) {}
+    NeighbourPair operator*() const { return {k_, neighbour_[k_]}; }
+    iterator& operator++() {
+      ++k_;
+      return *this;
+    }
+    bool operator!=(const iterator& other) const { return k_ != other.k_; }
+    bool operator==(const iterator& other) const { return k_ == other.k_; }
+
+   private:
+    const Index* neighbour_;
+    std::size_t k_;
+  };
+  NeighbourRow(const Index* neighbour, std::size_t begin, std::size_t end) : neighbour_(neighbour), begin_(begin), end_(end) {}
+  iterator begin() const { return {neighbour_, begin_}; }
+  iterator end() const { return {neighbour_, end_}; }
+  std::size_t size() const { return end_ - begin_; }
+  bool empty() const { return begin_ == end_; }
+
+ private:
+  const Index* neighbour_;
+  std::size_t begin_, end_;
+};
+
 template <int Dim>
 struct NeighbourList {
   Real smoothing_length = 0;
@@ -73,6 +110,8 @@ struct NeighbourList {
   std::size_t n_targets() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   std::size_t n_pairs() const { return neighbour.size(); }
   std::size_t n_neighbours(std::size_t i) const { return offsets[i + 1] - offsets[i]; }
+  /// The pairs (k, j) of target i (NeighbourRow).
+  NeighbourRow row(std::size_t i) const { return {neighbour.data(), offsets[i], offsets[i + 1]}; }
   /// Sets the row offsets from each row's neighbour count (an exclusive scan) and sizes the pair
   /// arrays to match.
   void size_rows(std::span<const std::size_t> count) {

@@ -54,35 +54,33 @@ class PointProbes {
     offset_.resize(relation_.n_pairs());
     using Matrix = Eigen::Matrix<double, Dim + 1, Dim + 1>;
     using Vector = Eigen::Matrix<double, Dim + 1, 1>;
-    const auto& offsets = relation_.offsets;
-    const auto& source = relation_.neighbour;
     if (fit_ == ProbeFit::shepard) {
       for (std::size_t p = 0; p < points_.size(); ++p) {
         double total = 0;
-        for (std::size_t k = offsets[p]; k < offsets[p + 1]; ++k) total += double(volumes[source[k]] * relation_.kernel_value[k]);
-        for (std::size_t k = offsets[p]; k < offsets[p + 1]; ++k) {
-          weight_[k] = total > 0 ? double(volumes[source[k]] * relation_.kernel_value[k]) / total : 0.0;
-          offset_[k] = positions[source[k]] - points_[p];
+        for (const auto [k, j] : relation_.row(p)) total += double(volumes[j] * relation_.kernel_value[k]);
+        for (const auto [k, j] : relation_.row(p)) {
+          weight_[k] = total > 0 ? double(volumes[j] * relation_.kernel_value[k]) / total : 0.0;
+          offset_[k] = positions[j] - points_[p];
         }
       }
       return;
     }
     for (std::size_t p = 0; p < points_.size(); ++p) {
       Matrix moment = Matrix::Zero();
-      for (std::size_t k = offsets[p]; k < offsets[p + 1]; ++k) {
+      for (const auto [k, j] : relation_.row(p)) {
         Vector basis;
-        basis << 1, (positions[source[k]] - points_[p]).template cast<double>();
-        moment += double(volumes[source[k]] * relation_.kernel_value[k]) * basis * basis.transpose();
+        basis << 1, (positions[j] - points_[p]).template cast<double>();
+        moment += double(volumes[j] * relation_.kernel_value[k]) * basis * basis.transpose();
       }
       const Eigen::FullPivLU<Matrix> lu(moment);
-      if (offsets[p + 1] - offsets[p] < Dim + 1 || !lu.isInvertible())
+      if (relation_.n_neighbours(p) < Dim + 1 || !lu.isInvertible())
         throw std::invalid_argument("probe " + std::to_string(p) + " has too few particles around it for a linear fit");
-      const Vector row = lu.inverse().col(0);  // moment is symmetric: first row of its inverse
-      for (std::size_t k = offsets[p]; k < offsets[p + 1]; ++k) {
+      const Vector first_row = lu.inverse().col(0);  // moment is symmetric: first row of its inverse
+      for (const auto [k, j] : relation_.row(p)) {
         Vector basis;
-        basis << 1, (positions[source[k]] - points_[p]).template cast<double>();
-        weight_[k] = double(volumes[source[k]] * relation_.kernel_value[k]) * row.dot(basis);
-        offset_[k] = positions[source[k]] - points_[p];
+        basis << 1, (positions[j] - points_[p]).template cast<double>();
+        weight_[k] = double(volumes[j] * relation_.kernel_value[k]) * first_row.dot(basis);
+        offset_[k] = positions[j] - points_[p];
       }
     }
   }
@@ -95,16 +93,16 @@ class PointProbes {
   /// The fitted value of a scalar field at point p.
   double sample(std::size_t p, std::span<const Real> field) const {
     double value = 0;
-    for (std::size_t k = relation_.offsets[p]; k < relation_.offsets[p + 1]; ++k)
-      value += weight_[k] * field[relation_.neighbour[k]];
+    for (const auto [k, j] : relation_.row(p))
+      value += weight_[k] * field[j];
     return value;
   }
   /// The fitted value of a vector or tensor field at point p.
   template <class T>
   T sample_value(std::size_t p, std::span<const T> field) const {
     T value = field[0] * Real(0);
-    for (std::size_t k = relation_.offsets[p]; k < relation_.offsets[p + 1]; ++k)
-      value += Real(weight_[k]) * field[relation_.neighbour[k]];
+    for (const auto [k, j] : relation_.row(p))
+      value += Real(weight_[k]) * field[j];
     return value;
   }
   /// The value at point p of a field with known gradients (exact on quadratic fields, see above):
@@ -112,8 +110,7 @@ class PointProbes {
   template <class T, class Gradient>
   T sample_with_gradient(std::size_t p, std::span<const T> field, std::span<const Gradient> gradient) const {
     T value = field[0] * Real(0);
-    for (std::size_t k = relation_.offsets[p]; k < relation_.offsets[p + 1]; ++k) {
-      const Index j = relation_.neighbour[k];
+    for (const auto [k, j] : relation_.row(p)) {
       value += Real(weight_[k]) * (field[j] - Real(0.5) * (gradient[j] * offset_[k]));
     }
     return value;
@@ -121,8 +118,8 @@ class PointProbes {
   /// True if every particle that contributes to point p satisfies `predicate` on its value.
   template <class Predicate>
   bool all_sources(std::size_t p, std::span<const Real> field, Predicate&& predicate) const {
-    for (std::size_t k = relation_.offsets[p]; k < relation_.offsets[p + 1]; ++k)
-      if (!predicate(field[relation_.neighbour[k]])) return false;
+    for (const auto [k, j] : relation_.row(p))
+      if (!predicate(field[j])) return false;
     return true;
   }
 

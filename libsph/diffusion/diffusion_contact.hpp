@@ -49,8 +49,7 @@ void add_contact_diffusion(const ContactRelation<Dim>& relation, Real diffusivit
                            std::span<const Real> value_on, std::span<const Real> value_by, std::span<Real> rate) {
   parallel_for(relation.n_targets(), [&](std::size_t i) {
     Real sum = 0;
-    for (std::size_t k = relation.offsets[i]; k < relation.offsets[i + 1]; ++k) {
-      const Index j = relation.neighbour[k];
+    for (const auto [k, j] : relation.row(i)) {
       const Real r = relation.distance[k];
       if (!(r > 0)) continue;
       sum += 2 * diffusivity * source_volume[j] * (-relation.kernel_derivative[k]) / r * (value_by[j] - value_on[i]);

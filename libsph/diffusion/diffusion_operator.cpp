@@ -64,9 +64,9 @@ std::vector<MomentSystemInverse<Dim>> diffusion_moment_systems(const InnerRelati
   parallel_for(relation.n_targets(), [&](std::size_t i) {
     // K[cd][ab] = sum_j V_j F_ij r_ij e_a e_b e_c e_d, times 2 for an off-diagonal ab (it appears twice in T : A).
     System K = System::Zero();
-    for (std::size_t k = relation.offsets[i]; k < relation.offsets[i + 1]; ++k) {
+    for (const auto [k, j] : relation.row(i)) {
       const Vec<Dim>& e = relation.unit_vector[k];
-      const Real w = volume[relation.neighbour[k]] * (-relation.kernel_derivative[k]) * relation.distance[k];
+      const Real w = volume[j] * (-relation.kernel_derivative[k]) * relation.distance[k];
       Vector u;
       for (int c = 0; c < m; ++c) u[c] = e[components[c].first] * e[components[c].second];
       K += w * u * u.transpose();
@@ -135,8 +135,7 @@ std::vector<Real> diffusion_pair_coefficients(const InnerRelation<Dim>& relation
 
   std::vector<Real> coefficient(relation.n_pairs());
   parallel_for(n, [&](std::size_t i) {
-    for (std::size_t k = relation.offsets[i]; k < relation.offsets[i + 1]; ++k) {
-      const Index j = relation.neighbour[k];
+    for (const auto [k, j] : relation.row(i)) {
       const Real r_ij = relation.distance[k];
       if (!(r_ij > 0)) {
         coefficient[k] = 0;
@@ -167,8 +166,8 @@ void apply_diffusion(const InnerRelation<Dim>& relation, std::span<const Real> p
   parallel_for(relation.n_targets(), [&](std::size_t i) {
     const Real C_i = value[i];
     Real sum = 0;
-    for (std::size_t k = relation.offsets[i]; k < relation.offsets[i + 1]; ++k)
-      sum += pair_coefficient[k] * (value[relation.neighbour[k]] - C_i);
+    for (const auto [k, j] : relation.row(i))
+      sum += pair_coefficient[k] * (value[j] - C_i);
     rate[i] = sum;
   });
 }
@@ -177,7 +176,7 @@ template <int Dim>
 Real diffusion_time_step_limit(const InnerRelation<Dim>& relation, std::span<const Real> pair_coefficient) {
   const Real largest_row = parallel_max(relation.n_targets(), Real(0), [&](std::size_t i) {
     Real row = 0;
-    for (std::size_t k = relation.offsets[i]; k < relation.offsets[i + 1]; ++k) row += std::abs(pair_coefficient[k]);
+    for (const auto [k, j] : relation.row(i)) row += std::abs(pair_coefficient[k]);
     return row;
   });
   return largest_row > 0 ? Real(1) / largest_row : std::numeric_limits<Real>::infinity();

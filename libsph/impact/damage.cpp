@@ -285,8 +285,7 @@ FragmentStatistics find_fragments(const InnerRelation<Dim>& relation, std::span<
   UnionFind sets(n);
   for (std::size_t i = 0; i < n; ++i) {
     if (!(damage[i] < threshold)) continue;
-    for (std::size_t p = relation.offsets[i]; p < relation.offsets[i + 1]; ++p) {
-      const Index j = relation.neighbour[p];
+    for (const auto [p, j] : relation.row(i)) {
       if (j >= n)
         throw std::invalid_argument("find_fragments: neighbour " + std::to_string(j) + " of particle " +
                                     std::to_string(i) + " is not a particle of the relation (" + std::to_string(n) + ")");

@@ -217,7 +217,7 @@ void UpdatedLagrangianBody<Dim>::update_density_and_pressure() {
     parallel_for(n, [&](std::size_t i) {
       const Real h_i = variable_h ? h_of[i] : h;
       Real sum = m[i] * std::visit([&](const auto& kernel) { return kernel.value(Real(0), h_i); }, settings_.kernel);
-      for (std::size_t k = R.offsets[i]; k < R.offsets[i + 1]; ++k) sum += m[R.neighbour[k]] * R.kernel_value[k];
+      for (const auto [k, j] : R.row(i)) sum += m[j] * R.kernel_value[k];
       rho_sum[i] = sum;
     });
   }
@@ -248,8 +248,7 @@ void UpdatedLagrangianBody<Dim>::compute_stress_rates() {
     if (!D.empty()) stress_.resize(n);
     parallel_for(n, [&](std::size_t i) {
       Mat<Dim> B = Mat<Dim>::Zero(), G = Mat<Dim>::Zero();
-      for (std::size_t k = R.offsets[i]; k < R.offsets[i + 1]; ++k) {
-        const std::size_t j = R.neighbour[k];
+      for (const auto [k, j] : R.row(i)) {
         const Real volume = m[j] / rho[j];
         const Vec<Dim> grad = R.kernel_derivative[k] * R.unit_vector[k];
         B -= volume * R.distance[k] * R.unit_vector[k] * grad.transpose();  // x_j - x_i = -r e_ij
@@ -331,8 +330,7 @@ void UpdatedLagrangianBody<Dim>::compute_forces() {
     if (strength) s_i = (D.empty() ? Real(1) : 1 - D[i]) * S[i] / (rho[i] * rho[i]);
     Vec<Dim> acc = Vec<Dim>::Zero(), smoothed = Vec<Dim>::Zero();
     Real rate_rho = 0, rate_e = 0;
-    for (std::size_t k = R.offsets[i]; k < R.offsets[i + 1]; ++k) {
-      const std::size_t j = R.neighbour[k];
+    for (const auto [k, j] : R.row(i)) {
       const Vec<Dim> grad = R.kernel_derivative[k] * R.unit_vector[k];
       const Vec<Dim> v_ij = v[i] - v[j];
       const Real vr = v_ij.dot(R.unit_vector[k]) * R.distance[k];  // v_ij . x_ij

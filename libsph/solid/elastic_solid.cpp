@@ -115,8 +115,8 @@ ElasticSolid<Dim>::ElasticSolid(ParticleSet<Dim>& particles, const InnerRelation
     auto B = particles_.field(correction_matrix_);
     parallel_for(n, [&](std::size_t i) {
       Mat<Dim> moment = Mat<Dim>::Zero();
-      for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k)
-        moment.noalias() -= (V[rel.neighbour[k]] * (X[i] - X[rel.neighbour[k]])) * pair_gradient_[k].vector().template cast<Real>().transpose();
+      for (const auto [k, j] : rel.row(i))
+        moment.noalias() -= (V[j] * (X[i] - X[j])) * pair_gradient_[k].vector().template cast<Real>().transpose();
       B[i] = moment.determinant() > Real(1e-6) ? Mat<Dim>(moment.transpose().inverse()) : Mat<Dim>::Identity();
     });
   }
@@ -188,15 +188,13 @@ void ElasticSolid<Dim>::build_quadratic_reconstruction() {
   std::vector<Vec<Dim>> corrected(rel.n_pairs()), weights(rel.n_pairs());
   parallel_for(n, [&](std::size_t i) {
     Moment M = Moment::Zero();
-    for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
-      const Index j = rel.neighbour[k];
+    for (const auto [k, j] : rel.row(i)) {
       const Basis p = basis((X[j] - X[i]) / h);
       M.noalias() += (V[j] * rel.kernel_value[k]) * (p * p.transpose());
     }
     const Eigen::LDLT<Moment> ldlt(M);
     const bool quadratic = ldlt.info() == Eigen::Success && ldlt.isPositive() && ldlt.rcond() > Real(1e-4);
-    for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
-      const Index j = rel.neighbour[k];
+    for (const auto [k, j] : rel.row(i)) {
       corrected[k] = V[j] * (B[i] * pair_gradient_[k].vector().template cast<Real>());
       if (!quadratic) {
         weights[k] = corrected[k];
@@ -213,8 +211,7 @@ void ElasticSolid<Dim>::build_quadratic_reconstruction() {
   // a_ji beside a_ij (the relation is symmetric: i is among the neighbours of j), and sum_j a_ij.
   std::vector<std::size_t> reverse(rel.n_pairs());
   parallel_for(n, [&](std::size_t i) {
-    for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
-      const Index j = rel.neighbour[k];
+    for (const auto [k, j] : rel.row(i)) {
       std::size_t r = rel.offsets[j];
       while (r < rel.offsets[j + 1] && rel.neighbour[r] != i) ++r;
       if (r == rel.offsets[j + 1]) throw std::logic_error("solid: the inner relation is not symmetric");
@@ -230,7 +227,7 @@ void ElasticSolid<Dim>::build_quadratic_reconstruction() {
     std::vector<Vec<Dim>> sum(n, Vec<Dim>::Zero());
     std::vector<Real> row(n, 0);
     parallel_for(n, [&](std::size_t i) {
-      for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
+      for (const auto [k, j] : rel.row(i)) {
         sum[i] += a[k];
         row[i] += a[k].norm();
       }
@@ -238,8 +235,8 @@ void ElasticSolid<Dim>::build_quadratic_reconstruction() {
     });
     return parallel_max(n, Real(0), [&](std::size_t i) {
       Real bound = sum[i].norm() * row[i];
-      for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k)
-        bound += V[rel.neighbour[k]] / V[i] * a[reverse[k]].norm() * row[rel.neighbour[k]];
+      for (const auto [k, j] : rel.row(i))
+        bound += V[j] / V[i] * a[reverse[k]].norm() * row[j];
       return bound;
     });
   };
@@ -254,7 +251,7 @@ void ElasticSolid<Dim>::build_quadratic_reconstruction() {
     std::vector<Vec<Dim>> point(rel.n_pairs());
     for (const Vec<Dim>& u : cell_quadrature_points<Dim>()) {
       parallel_for(n, [&](std::size_t i) {
-        for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) point[k] = weights[k] + cell_size_[i] * (curvature[k] * u);
+        for (const auto [k, j] : rel.row(i)) point[k] = weights[k] + cell_size_[i] * (curvature[k] * u);
       });
       stiffest = std::max(stiffest, gershgorin(point));
     }
@@ -266,7 +263,7 @@ void ElasticSolid<Dim>::build_quadratic_reconstruction() {
     c_sum_.assign(n, Mat<Dim>::Zero());
     gauss_moment_.assign(n, {});
     parallel_for(n, [&](std::size_t i) {
-      for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
+      for (const auto [k, j] : rel.row(i)) {
         pair_curvature_[k].c = curvature[k].template cast<PairReal>();
         pair_curvature_[k].reverse = curvature[reverse[k]].template cast<PairReal>();
         c_sum_[i] += pair_curvature_[k].c.template cast<Real>();
@@ -277,7 +274,7 @@ void ElasticSolid<Dim>::build_quadratic_reconstruction() {
   pair_weights_.resize(rel.n_pairs());
   a_sum_.assign(n, Vec<Dim>::Zero());
   parallel_for(n, [&](std::size_t i) {
-    for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
+    for (const auto [k, j] : rel.row(i)) {
       pair_weights_[k].a = weights[k].template cast<PairReal>();
       pair_weights_[k].reverse = weights[reverse[k]].template cast<PairReal>();
       a_sum_[i] += pair_weights_[k].a.template cast<Real>();
@@ -392,12 +389,11 @@ Mat<Dim> ElasticSolid<Dim>::deformation_gradient_of(std::size_t i, std::span<con
   const Vec<Dim> x_i = x[i];
   Mat<Dim> moment = Mat<Dim>::Zero();
   if (!pair_weights_.empty()) {  // quadratic: F_i = sum_j (x_j - x_i) (x) a_ij
-    for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k)
-      moment.noalias() += (x[rel.neighbour[k]] - x_i) * pair_weights_[k].a.transpose().template cast<Real>();
+    for (const auto [k, j] : rel.row(i))
+      moment.noalias() += (x[j] - x_i) * pair_weights_[k].a.transpose().template cast<Real>();
     return moment;
   }
-  for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
-    const Index j = rel.neighbour[k];
+  for (const auto [k, j] : rel.row(i)) {
     const Vec<Dim> w = V[j] * pair_gradient_[k].vector().template cast<Real>();
     moment.noalias() += (x_i - x[j]) * w.transpose();
   }
@@ -410,8 +406,8 @@ std::array<Mat<Dim>, Dim> ElasticSolid<Dim>::gradient_of_deformation(std::size_t
   std::array<Mat<Dim>, Dim> G;
   for (auto& Gd : G) Gd.setZero();
   const Vec<Dim> x_i = x[i];
-  for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
-    const Vec<Dim> dx = x[rel.neighbour[k]] - x_i;
+  for (const auto [k, j] : rel.row(i)) {
+    const Vec<Dim> dx = x[j] - x_i;
     const Mat<Dim> c = pair_curvature_[k].c.template cast<Real>();
     for (int d = 0; d < Dim; ++d) G[d].noalias() += dx * c.col(d).transpose();
   }
@@ -441,8 +437,7 @@ Mat<Dim> ElasticSolid<Dim>::hourglass_stress_of(std::size_t i, const Mat<Dim>& F
   // the hourglass energy acts as a stress (docs/solid.md).
   const auto& rel = relation_;
   Mat<Dim> H = Mat<Dim>::Zero();
-  for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
-    const Index j = rel.neighbour[k];
+  for (const auto [k, j] : rel.row(i)) {
     const Vec<Dim> X_ij = pair_offset_[k].template cast<Real>();
     H.noalias() += (V[j] * Real(pair_gradient_[k].hourglass_weight)) * (F_i * X_ij - (x[i] - x[j])) * X_ij.transpose();
   }
@@ -564,15 +559,15 @@ Vec<Dim> ElasticSolid<Dim>::stress_divergence_of(std::size_t i, std::span<const 
   const auto& rel = relation_;
   Vec<Dim> force = Vec<Dim>::Zero();
   if (!pair_weights_.empty()) {  // P_i sum_j a_ij - sum_j (V_j / V_i) P_j a_ji
-    for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k)
-      force.noalias() += V[rel.neighbour[k]] * (PB[rel.neighbour[k]] * pair_weights_[k].reverse.template cast<Real>());
+    for (const auto [k, j] : rel.row(i))
+      force.noalias() += V[j] * (PB[j] * pair_weights_[k].reverse.template cast<Real>());
     return PB[i] * a_sum_[i] - force / V[i];
   }
   Vec<Dim> weighted_sum = Vec<Dim>::Zero();  // sum_j V_j (P_i B_i + P_j B_j) grad0 W_ij
-  for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
-    const Vec<Dim> w = V[rel.neighbour[k]] * pair_gradient_[k].vector().template cast<Real>();
+  for (const auto [k, j] : rel.row(i)) {
+    const Vec<Dim> w = V[j] * pair_gradient_[k].vector().template cast<Real>();
     weighted_sum += w;
-    force.noalias() += PB[rel.neighbour[k]] * w;
+    force.noalias() += PB[j] * w;
   }
   return force + PB[i] * weighted_sum;
 }
@@ -594,8 +589,7 @@ Vec<Dim> ElasticSolid<Dim>::internal_force_of(std::size_t i, std::span<const Vec
   const auto& v = previous_velocity_;  // the velocities at the start of the step (the field is being updated)
   const Vec<Dim> v_i = v[i];
   const bool gauss = !pair_curvature_.empty();  // Gauss points: + sum_d Q_d,i c_sum_i.col(d) - sum_j (V_j / V_i) sum_d Q_d,j c_ji.col(d)
-  for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
-    const Index j = rel.neighbour[k];
+  for (const auto [k, j] : rel.row(i)) {
     const PairGradient& g = pair_gradient_[k];
     const Vec<Dim> w = V[j] * g.vector().template cast<Real>();  // V_j grad0 W_ij
     if constexpr (Quadratic) {
@@ -904,8 +898,7 @@ typename ElasticSolid<Dim>::Energies ElasticSolid<Dim>::energies() {
     const auto& x = particles_.position;
     e.hourglass = hourglass_factor_ / 2 * parallel_sum(F.size(), 0.0, [&](std::size_t i) {
       double sum = 0;
-      for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
-        const Index j = rel.neighbour[k];
+      for (const auto [k, j] : rel.row(i)) {
         const Vec<Dim> X_ij = pair_offset_[k].template cast<Real>();
         sum += double(V[i] * V[j] * Real(pair_gradient_[k].hourglass_weight) * (F[i] * X_ij - (x[i] - x[j])).squaredNorm());
       }
@@ -967,9 +960,9 @@ double ElasticSolid<Dim>::hourglass_measure() {
   const auto& rel = relation_;
   const double sum = parallel_sum(particles_.n_particles(), 0.0, [&](std::size_t i) {
     double row = 0;
-    for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
+    for (const auto [k, j] : rel.row(i)) {
       const Vec<Dim> X_ij = rel.distance[k] * rel.unit_vector[k];
-      row += (F[i] * X_ij - (x[i] - x[rel.neighbour[k]])).norm() / rel.distance[k];
+      row += (F[i] * X_ij - (x[i] - x[j])).norm() / rel.distance[k];
     }
     return row;
   });
