@@ -147,15 +147,9 @@ class DamBreakScene final : public Scene {
     sph::PointProbes<Dim> probe({probe_point}, water.position, water.volume, kernel, settings.smoothing_length,
                                 sph::ProbeFit::shepard);
     const double rise_threshold = 0.1 * p_.density * p_.gravity * p_.water_height;
-    struct Probe {  // the first rise above rise_threshold and the peak
-      double first_rise = std::numeric_limits<double>::quiet_NaN(), peak_pressure = 0;
-      void checkpoint(sph::StateArchive& a) {
-        a.io("first_rise", first_rise);
-        a.io("peak_pressure", peak_pressure);
-      }
-    } wall_probe;
-    double& first_rise = wall_probe.first_rise;
-    double& peak_pressure = wall_probe.peak_pressure;
+    sph::RunRecord wall_probe;  // the first rise above rise_threshold and the peak
+    double& first_rise = wall_probe.value("first_rise", std::numeric_limits<double>::quiet_NaN());
+    double& peak_pressure = wall_probe.value("peak_pressure");
 
     FluidRunPlan plan;
     plan.scene = Dim == 2 ? "dambreak" : "dambreak-3d";

@@ -72,11 +72,8 @@ class PoiseuilleScene final : public Scene {
       return sum / double(v.size());
     };
     // What the observer keeps: the first time the mean speed is within 1 % of its steady value.
-    struct Steady {
-      double time = std::nan("");
-      void checkpoint(sph::StateArchive& a) { a.io("steady_time", time); }
-    } steady;
-    double& steady_time = steady.time;
+    sph::RunRecord steady;
+    double& steady_time = steady.value("steady_time", std::nan(""));
     FluidRunPlan plan;
     plan.scene = "poiseuille";
     plan.end_time = p_.end_time;

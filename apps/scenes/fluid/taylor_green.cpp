@@ -57,17 +57,9 @@ class TaylorGreenScene final : public Scene {
 
     const double rate = 16 * M_PI * M_PI / p_.reynolds;
     // What the observer keeps: the first kinetic energy and ln E at every sample.
-    struct KineticEnergy {
-      double initial = 0;
-      std::vector<double> times, log_energy;
-      void checkpoint(sph::StateArchive& a) {
-        a.io("initial", initial);
-        a.io("times", times);
-        a.io("log_energy", log_energy);
-      }
-    } kinetic;
-    auto& times = kinetic.times;
-    auto& log_energy = kinetic.log_energy;
+    sph::RunRecord kinetic;
+    double& initial_energy = kinetic.value("initial");
+    auto &times = kinetic.series("times"), &log_energy = kinetic.series("log_energy");
     FluidRunPlan plan;
     plan.scene = "taylor-green";
     plan.end_time = p_.end_time;
@@ -75,10 +67,10 @@ class TaylorGreenScene final : public Scene {
     plan.observer_columns = {"kinetic_energy", "exact_kinetic_energy"};
     plan.observers = [&](const sph::StepInfo& s) {
       const double e = fluid.energies().kinetic;
-      if (times.empty()) kinetic.initial = e;
+      if (times.empty()) initial_energy = e;
       times.push_back(s.time);
       log_energy.push_back(std::log(e));
-      return std::vector<double>{e, kinetic.initial * std::exp(-rate * s.time)};
+      return std::vector<double>{e, initial_energy * std::exp(-rate * s.time)};
     };
     plan.keep("kinetic_energy", kinetic);
     run_fluid<2>(fluid, {}, plan, ctx);

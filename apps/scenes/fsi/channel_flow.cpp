@@ -221,21 +221,9 @@ class ChannelFlowScene final : public Scene {
       for (const auto i : tip) sum += bar->particles.position[i] - X[i];
       return sum / static_cast<Real>(tip.size());
     };
-    struct Samples {  // the tip displacement and the force coefficients at every sample
-      std::vector<double> times, tip_x, tip_y, drag, lift;
-      void checkpoint(sph::StateArchive& a) {
-        a.io("times", times);
-        a.io("tip_x", tip_x);
-        a.io("tip_y", tip_y);
-        a.io("drag", drag);
-        a.io("lift", lift);
-      }
-    } samples;
-    auto& times = samples.times;
-    auto& tip_x = samples.tip_x;
-    auto& tip_y = samples.tip_y;
-    auto& drag = samples.drag;
-    auto& lift = samples.lift;
+    sph::RunRecord samples;  // the tip displacement and the force coefficients at every sample
+    auto &times = samples.series("times"), &tip_x = samples.series("tip_x"), &tip_y = samples.series("tip_y");
+    auto &drag = samples.series("drag"), &lift = samples.series("lift");
     const double force_scale = p_.density * U * U * p_.diameter;  // F / (rho U^2 D)
     // The force is averaged over the acoustic steps between samples: one acoustic step's pressure
     // carries the acoustic noise of the weakly-compressible fluid (of period about h / c0).

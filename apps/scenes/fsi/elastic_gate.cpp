@@ -131,24 +131,9 @@ class ElasticGateScene final : public Scene {
       if ((gate->particles.position[i] - lo).norm() < (gate->particles.position[corner] - lo).norm()) corner = i;
     const Vec2 corner_start = gate->particles.position[corner];
 
-    struct Tip {  // the corner's displacement at every sample and its extremes
-      double max_dx = 0, max_dy = 0, time_of_max_dx = 0;
-      std::vector<double> times, dxs, dys;
-      void checkpoint(sph::StateArchive& a) {
-        a.io("max_dx", max_dx);
-        a.io("time_of_max_dx", time_of_max_dx);
-        a.io("max_dy", max_dy);
-        a.io("times", times);
-        a.io("dxs", dxs);
-        a.io("dys", dys);
-      }
-    } tip;
-    double& max_dx = tip.max_dx;
-    double& max_dy = tip.max_dy;
-    double& time_of_max_dx = tip.time_of_max_dx;
-    auto& times = tip.times;
-    auto& dxs = tip.dxs;
-    auto& dys = tip.dys;
+    sph::RunRecord tip;  // the corner's displacement at every sample and its extremes
+    double &max_dx = tip.value("max_dx"), &max_dy = tip.value("max_dy"), &time_of_max_dx = tip.value("time_of_max_dx");
+    auto &times = tip.series("times"), &dxs = tip.series("dxs"), &dys = tip.series("dys");
     FluidRunPlan plan;
     plan.scene = "elastic-gate";
     plan.end_time = p_.end_time;
