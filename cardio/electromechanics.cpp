@@ -18,7 +18,7 @@ template <int Dim>
 void interact(ActiveTension<Dim>& on, const sph::ElasticSolid<Dim>& by, sph::SameParticles, Real, Real) {
   const auto& body = by.particles();
   const auto F = body.field(by.deformation_gradient_field());
-  const auto f0 = body.field(by.fiber_field());
+  const auto f0 = body.field(by.fibre_field());
   const auto stretch = on.fibre_stretch();
   sph::parallel_for(stretch.size(), [&](std::size_t i) { stretch[i] = (F[i] * f0[i]).norm(); });
 }
@@ -39,7 +39,7 @@ template <int Dim>
 void interact(Monodomain<Dim>& on, const sph::ElasticSolid<Dim>& by, sph::SameParticles, Real, Real) {
   const auto& body = by.particles();
   const auto F = body.field(by.deformation_gradient_field());
-  const auto f0 = body.field(by.fiber_field());
+  const auto f0 = body.field(by.fibre_field());
   const Real D_l = on.settings().longitudinal_diffusivity, D_t = on.settings().transverse_diffusivity;
   std::vector<sph::Mat<Dim>> D(body.n_particles());
   const auto& scale = on.settings().conduction_scale;

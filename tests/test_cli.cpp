@@ -308,6 +308,16 @@ TEST_F(Cli, ParticlesRejectsAMissingMesh) {
   expect_rejected({"particles", (folder_ / "nowhere.stl").string(), "--dp", "1"}, "no such file");
 }
 
+// A renamed parameter keeps its old name, with a warning that names both.
+TEST_F(Cli, AnOldParameterNameStillWorksAndWarns) {
+  const fs::path mesh = write("box.stl", ascii_stl(box_triangles(0, 10)));
+  ASSERT_EQ(run({"particles", mesh.string(), "--dp", "2", "--set", "fibres=uniform", "--set", "fiber_check=none", "--set", "cache=none", "--quiet",
+                 "--output", (folder_ / "out").string()}),
+            0)
+      << stderr_;
+  EXPECT_NE(stderr_.find("parameter 'fiber_check' (from --set) is now called 'fibre_check'"), std::string::npos) << stderr_;
+}
+
 TEST_F(Cli, ParticlesOfABoxWithUniformFibres) {
   const fs::path mesh = write("box.stl", ascii_stl(box_triangles(0, 10)));
   const fs::path out = folder_ / "out";
@@ -320,7 +330,7 @@ TEST_F(Cli, ParticlesOfABoxWithUniformFibres) {
   EXPECT_EQ(report["results"]["particles"], 1000);
   EXPECT_LT(std::abs(report["results"]["volume_relative_error"].get<double>()), 1e-9);
   EXPECT_TRUE(fs::exists(out / "particles.pvd"));
-  EXPECT_FALSE(report["results"].contains("fiber_angle_mad_deg"));
+  EXPECT_FALSE(report["results"].contains("fibre_angle_mad_deg"));
 }
 
 // --- heart: bad input exits 2 naming the problem, with nothing written ---------------------------

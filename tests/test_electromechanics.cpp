@@ -88,14 +88,14 @@ TEST(ActiveStress, CauchyStressOfTheUndeformedBodyIsTheTensionAlongTheFibre) {
   const auto relation = sph::build_inner_relation<3>(body.position, kernel, Real(1.3) * dp);
   sph::ElasticSolid<3>::Settings settings;
   settings.material = sph::holzapfel_ogden_2009_kpa<3>(100);
-  settings.fiber = Vec3(1, 1, 0).normalized();
+  settings.fibre = Vec3(1, 1, 0).normalized();
   settings.sheet = Vec3(-1, 1, 0).normalized();
   settings.active_stress = true;
   sph::ElasticSolid<3> solid(body, relation, settings);
   auto T = body.field(solid.active_tension_field());
   std::fill(T.begin(), T.end(), Real(7));
   solid.update_output_fields();
-  const Mat3 expected = 7 * settings.fiber * settings.fiber.transpose();
+  const Mat3 expected = 7 * settings.fibre * settings.fibre.transpose();
   for (std::size_t i = 0; i < body.n_particles(); ++i) ASSERT_LT((solid.cauchy_stress_of(i) - expected).norm(), 1e-9);
   // Without any other load the tension is the whole force: the interior is in equilibrium at F = I
   // (uniform stress) while the surface is pulled, so the residual equals the active force.
@@ -122,7 +122,7 @@ TEST(ActiveStress, StretchStiffnessDoesNotMakeANonNegativeTensionPush) {
   auto net_force = [&](bool non_negative, Real lambda_0) {
     sph::ElasticSolid<3>::Settings settings;
     settings.material = sph::holzapfel_ogden_2009_kpa<3>(100);
-    settings.fiber = Vec3(1, 1, 0).normalized();
+    settings.fibre = Vec3(1, 1, 0).normalized();
     settings.sheet = Vec3(-1, 1, 0).normalized();
     settings.active_stress = true;
     settings.active_stiffness = true;

@@ -25,10 +25,10 @@ TEST(GeometryValidation, LvEllipsoidVolumeAndFibreAngleAtTheDefaultSpacing) {
   const auto report = run_particles({}, "lv_ellipsoid");
   const auto& r = report.results;
   const double volume_error = r["volume_relative_error"];
-  const double mad = r["fiber_angle_mad_deg"];
+  const double mad = r["fibre_angle_mad_deg"];
   std::cout << "[ measured ] LV ellipsoid dp = 0.5 mm: " << r["particles"] << " particles, volume error " << volume_error
             << " (bound 0.01), volume spread " << r["density_spread"] << " (bound 0.011), fibre angle MAD " << mad
-            << " deg (bound 3) over " << r["fiber_check_particles"] << " particles, largest " << r["fiber_angle_max_deg"]
+            << " deg (bound 3) over " << r["fibre_check_particles"] << " particles, largest " << r["fibre_angle_max_deg"]
             << " deg\n";
   // Against the closed-form wall volume (the mesh itself is 0.02 % short of it): measured -0.58 %,
   // bound 1 %. Fibre angle against the prescribed linear law: measured 1.91 deg, bound 3 deg.
@@ -51,7 +51,7 @@ TEST(GeometryValidation, SharedBiventricularHeartYieldsLabelledParticlesAndFibre
     EXPECT_GT(int(r["labelled"][label]), 0) << label;
   // Against the volume enclosed by the surface mesh: measured -0.25 %, bound 0.8 %.
   EXPECT_LT(std::abs(double(r["volume_relative_error"])), 0.008);
-  EXPECT_FALSE(r.contains("fiber_angle_mad_deg"));  // no analytic reference for this mesh
+  EXPECT_FALSE(r.contains("fibre_angle_mad_deg"));  // no analytic reference for this mesh
 }
 
 }  // namespace

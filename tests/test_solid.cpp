@@ -34,16 +34,16 @@ Mat3 sample_deformation(double scale) {
   return Mat3::Identity() + Real(scale) * (F - Mat3::Identity());
 }
 
-const Vec3 fiber = Vec3(1, 1, 0).normalized();
+const Vec3 fibre = Vec3(1, 1, 0).normalized();
 const Vec3 sheet = Vec3(-1, 1, 0).normalized();
 
 TEST(MaterialLaws, ReferenceIsStressFreeAndStressSymmetric) {
   for (const auto& law : all_laws()) {
     std::visit(
         [](const auto& m) {
-          EXPECT_LT(m.second_piola(Mat3::Identity(), fiber, sheet).norm(), test::bound(1e-12, 1e-5));
-          EXPECT_NEAR(m.energy(Mat3::Identity(), fiber, sheet), 0, test::bound(1e-12, 1e-5));
-          const Mat3 S = m.second_piola(sample_deformation(1), fiber, sheet);
+          EXPECT_LT(m.second_piola(Mat3::Identity(), fibre, sheet).norm(), test::bound(1e-12, 1e-5));
+          EXPECT_NEAR(m.energy(Mat3::Identity(), fibre, sheet), 0, test::bound(1e-12, 1e-5));
+          const Mat3 S = m.second_piola(sample_deformation(1), fibre, sheet);
           EXPECT_LT((S - S.transpose()).norm(), test::bound(1e-12, 1e-5) * S.norm());
         },
         law);
@@ -56,7 +56,7 @@ TEST(MaterialLaws, StressIsTheDerivativeOfTheEnergy) {
     std::visit(
         [](const auto& m) {
           const Mat3 F = sample_deformation(1);
-          const Mat3 P = F * m.second_piola(F, fiber, sheet);
+          const Mat3 P = F * m.second_piola(F, fibre, sheet);
           Mat3 P_fd;
           const double step = test::bound(1e-6, 3e-3);  // float: a larger step against round-off
           for (int r = 0; r < 3; ++r)
@@ -64,7 +64,7 @@ TEST(MaterialLaws, StressIsTheDerivativeOfTheEnergy) {
               Mat3 Fp = F, Fm = F;
               Fp(r, c) += step;
               Fm(r, c) -= step;
-              P_fd(r, c) = (m.energy(Fp, fiber, sheet) - m.energy(Fm, fiber, sheet)) / (2 * step);
+              P_fd(r, c) = (m.energy(Fp, fibre, sheet) - m.energy(Fm, fibre, sheet)) / (2 * step);
             }
           EXPECT_LT((P - P_fd).norm(), test::bound(1e-6, 3e-2) * std::max(1.0, double(P.norm()))) << "P =\n" << P << "\nfinite differences =\n" << P_fd;
         },
@@ -79,8 +79,8 @@ TEST(MaterialLaws, Objectivity) {
     std::visit(
         [&](const auto& m) {
           const Mat3 F = sample_deformation(1);
-          const Mat3 S = m.second_piola(F, fiber, sheet);
-          EXPECT_LT((m.second_piola(Q * F, fiber, sheet) - S).norm(), test::bound(1e-10, 1e-4) * S.norm());
+          const Mat3 S = m.second_piola(F, fibre, sheet);
+          EXPECT_LT((m.second_piola(Q * F, fibre, sheet) - S).norm(), test::bound(1e-10, 1e-4) * S.norm());
         },
         law);
   }

@@ -112,7 +112,7 @@ TEST(SolidStability, HolzapfelOgdenCompressionToHalfLength) {
   const auto relation = sph::build_inner_relation<3>(body.position, sph::make_kernel<3>("wendland_c4"), Real(1.3) * dp);
   sph::ElasticSolid<3>::Settings settings;
   settings.material = sph::holzapfel_ogden_2009_kpa<3>(50);
-  settings.fiber = Vec3::UnitZ();
+  settings.fibre = Vec3::UnitZ();
   settings.sheet = Vec3::UnitX();
   settings.numerics.hourglass_coefficient = Real(0.1);
   settings.damping_rate = 2;

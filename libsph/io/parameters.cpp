@@ -1,6 +1,7 @@
 #include "libsph/io/parameters.hpp"
 
 #include <algorithm>
+#include <iostream>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -237,7 +238,19 @@ Parameters::Entry& Parameters::entry(const std::string& key, const std::string& 
   throw ParameterError("unknown parameter " + quoted(key) + where(origin) + "; this scene has: " + known);
 }
 
-void Parameters::set(const std::string& key, const std::string& text, const std::string& origin) {
+void Parameters::add_alias(const std::string& old_key, const std::string& key) {
+  if (!has(key)) throw std::logic_error("alias " + quoted(old_key) + " of the undeclared parameter " + quoted(key));
+  aliases_.emplace_back(old_key, key);
+}
+
+void Parameters::set(const std::string& given, const std::string& text, const std::string& origin) {
+  std::string key = given;
+  for (const auto& [old_key, name] : aliases_)
+    if (old_key == given) {
+      std::cerr << "warning: parameter " << quoted(old_key) << where(origin) << " is now called " << quoted(name)
+                << "; the old name still works\n";
+      key = name;
+    }
   entry(key, origin).parse(text, origin);
   if (std::find(explicit_keys_.begin(), explicit_keys_.end(), key) == explicit_keys_.end()) explicit_keys_.push_back(key);
 }

@@ -109,6 +109,9 @@ class Parameters {
   void apply_presets();
 
   bool has(const std::string& key) const;
+  /// An old name of the declared parameter `key` (a renamed parameter keeps working): setting it, on
+  /// the command line or in a file, sets `key` and prints a warning that names both on stderr.
+  void add_alias(const std::string& old_key, const std::string& key);
   /// Parses `text` for `key` and checks it; `origin` (e.g. "--set", a file name) goes into errors.
   void set(const std::string& key, const std::string& text, const std::string& origin);
   /// Applies every value of a .toml or .json file.
@@ -141,6 +144,7 @@ class Parameters {
   void add_named_choice(const std::string& key, std::vector<std::string> choices, const std::string& help,
                         std::function<void(std::size_t)> select, std::function<std::string()> current);
   void add_entry(Entry e);
+  std::vector<std::pair<std::string, std::string>> aliases_;  // (old name, name)
   using PresetValues = std::vector<std::pair<std::string, std::string>>;
   struct Preset {
     std::string key;

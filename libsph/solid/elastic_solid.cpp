@@ -76,12 +76,12 @@ ElasticSolid<Dim>::ElasticSolid(ParticleSet<Dim>& particles, const InnerRelation
   stress_correction_ = particles_.template register_field<Mat<Dim>>("stress_times_correction", Mat<Dim>::Zero(), false);
   const bool anisotropic = std::visit([](const auto& m) { return std::decay_t<decltype(m)>::anisotropic; }, settings_.material);
   if (anisotropic) {
-    const Vec<Dim> f = settings_.fiber.normalized(), s = settings_.sheet.normalized();
+    const Vec<Dim> f = settings_.fibre.normalized(), s = settings_.sheet.normalized();
     if (!(std::abs(f.dot(s)) < Real(1e-6)) || !f.allFinite() || !s.allFinite())
       throw std::invalid_argument(body + ": fibre and sheet directions must be non-zero and orthogonal");
-    fiber_ = particles_.template register_field<Vec<Dim>>("fiber_direction", f);
+    fibre_ = particles_.template register_field<Vec<Dim>>("fibre_direction", f);
     sheet_ = particles_.template register_field<Vec<Dim>>("sheet_direction", s);
-    fiber_stretch_ = particles_.template register_field<Real>("fiber_stretch", Real(1));
+    fibre_stretch_ = particles_.template register_field<Real>("fibre_stretch", Real(1));
   }
   if (settings_.active_stress) {
     if (!anisotropic) throw std::invalid_argument(body + ": active stress needs a law with fibre directions");
@@ -417,7 +417,7 @@ std::array<Mat<Dim>, Dim> ElasticSolid<Dim>::gradient_of_deformation(std::size_t
 template <int Dim>
 template <class Law>
 Real ElasticSolid<Dim>::cell_energy(std::size_t i, const Law& law, const Mat<Dim>& F_i, std::span<const Vec<Dim>> x) const {
-  const Vec<Dim> f = fiber_.valid() ? particles_.field(fiber_)[i] : Vec<Dim>::Zero();
+  const Vec<Dim> f = fibre_.valid() ? particles_.field(fibre_)[i] : Vec<Dim>::Zero();
   const Vec<Dim> s = sheet_.valid() ? particles_.field(sheet_)[i] : Vec<Dim>::Zero();
   if (pair_curvature_.empty()) return law.energy(F_i, f, s);
   const auto G = gradient_of_deformation(i, x);
@@ -459,7 +459,7 @@ std::size_t ElasticSolid<Dim>::compute_deformation_and_stress() {
   return std::visit(
       [&](const auto& law) {
         using Law = std::decay_t<decltype(law)>;
-        const auto f = anisotropic_field(fiber_);
+        const auto f = anisotropic_field(fibre_);
         const auto s = anisotropic_field(sheet_);
         const std::span<const Real> T =
             active_tension_.valid() ? std::span<const Real>(particles_.field(active_tension_)) : std::span<const Real>();
@@ -530,11 +530,11 @@ std::size_t ElasticSolid<Dim>::compute_deformation_and_stress() {
 template <int Dim>
 void ElasticSolid<Dim>::update_current_sound_speed() {
   const auto F = particles_.field(deformation_gradient_);
-  const bool anisotropic = fiber_.valid();
+  const bool anisotropic = fibre_.valid();
   const Real largest = std::visit(
       [&](const auto& law) {
         return parallel_max(F.size(), Real(0), [&](std::size_t i) {
-          const Vec<Dim> f = anisotropic ? particles_.field(fiber_)[i] : Vec<Dim>::Zero();
+          const Vec<Dim> f = anisotropic ? particles_.field(fibre_)[i] : Vec<Dim>::Zero();
           const Vec<Dim> s = anisotropic ? particles_.field(sheet_)[i] : Vec<Dim>::Zero();
           const Mat<Dim> P = first_piola<Dim>(law, F[i], f, s);
           const Real delta = Real(1e-6);
@@ -834,7 +834,7 @@ Mat<Dim> ElasticSolid<Dim>::cauchy_stress_of(std::size_t i) const {
       [&](const auto& law) {
         using Law = std::decay_t<decltype(law)>;
         if constexpr (Law::anisotropic) {
-          const Vec<Dim>& f = particles_.field(fiber_)[i];
+          const Vec<Dim>& f = particles_.field(fibre_)[i];
           Mat<Dim> sigma = cauchy_stress<Dim>(law, F, f, particles_.field(sheet_)[i]);
           if (active_tension_.valid()) {  // J^-1 F (T_a f0 (x) f0) F^T
             const Vec<Dim> Ff = F * f;
@@ -867,9 +867,9 @@ void ElasticSolid<Dim>::update_output_fields() {
                                3 * sigma(0, 1) * sigma(0, 1));
     }
   });
-  if (fiber_stretch_.valid()) {
-    const auto f = particles_.field(fiber_);
-    auto stretch = particles_.field(fiber_stretch_);
+  if (fibre_stretch_.valid()) {
+    const auto f = particles_.field(fibre_);
+    auto stretch = particles_.field(fibre_stretch_);
     parallel_for(particles_.n_particles(), [&](std::size_t i) { stretch[i] = (F[i] * f[i]).norm(); });
   }
 }
@@ -941,7 +941,7 @@ typename ElasticSolid<Dim>::Residual ElasticSolid<Dim>::equilibrium_residual(Rea
     // The force of the active stress alone, Pa = T_a F f0 (x) f0 in place of P.
     const auto F = particles_.field(deformation_gradient_);
     const auto B = particles_.field(correction_matrix_);
-    const auto f = particles_.field(fiber_);
+    const auto f = particles_.field(fibre_);
     const auto T = particles_.field(active_tension_);
     std::vector<Mat<Dim>> PB(n);
     parallel_for(n, [&](std::size_t i) { PB[i] = T[i] * (F[i] * f[i]) * (B[i].transpose() * f[i]).transpose(); });

@@ -61,7 +61,7 @@
 // stiffness of the myocardium buckles the particle arrangement (docs/electromechanics.md).
 //
 // Fields it registers (written to output unless noted): velocity, displacement, jacobian (J),
-// von_mises_stress, and for the anisotropic laws fiber_direction, sheet_direction and fiber_stretch;
+// von_mises_stress, and for the anisotropic laws fibre_direction, sheet_direction and fibre_stretch;
 // not written: reference_position, acceleration, deformation_gradient, correction_matrix and the
 // stress P B0. Displacement, J, von Mises and fibre stretch are filled by update_output_fields().
 //
@@ -146,7 +146,7 @@ class ElasticSolid {
     Real damping_rate = 0;           ///< c [1/time] of dv/dt = ... - c v (quasi-static runs); 0 = none
     Vec<Dim> body_force = Vec<Dim>::Zero();  ///< g [length/time^2]
     SolidNumerics numerics;                  ///< hourglass control and time step
-    Vec<Dim> fiber = Vec<Dim>::UnitX();      ///< initial (uniform) fibre direction, anisotropic laws
+    Vec<Dim> fibre = Vec<Dim>::UnitX();      ///< initial (uniform) fibre direction, anisotropic laws
     Vec<Dim> sheet = Vec<Dim>::UnitY();      ///< initial (uniform) sheet direction
     bool active_stress = false;              ///< add T_a f0 (x) f0 to S (anisotropic laws only)
     /// With active_stress: T_a + k_a (lambda - lambda_0) in place of T_a, lambda = |F f0| (see above).
@@ -260,7 +260,7 @@ class ElasticSolid {
   /// body force; damping excluded; constrained particles included).
   FieldHandle<Vec<Dim>> acceleration_field() const { return acceleration_; }
   FieldHandle<Vec<Dim>> reference_position_field() const { return reference_position_; }
-  FieldHandle<Vec<Dim>> fiber_field() const { return fiber_; }
+  FieldHandle<Vec<Dim>> fibre_field() const { return fibre_; }
   FieldHandle<Vec<Dim>> sheet_field() const { return sheet_; }
   FieldHandle<Mat<Dim>> deformation_gradient_field() const { return deformation_gradient_; }
   /// T_a per particle [stress]; valid with Settings::active_stress only.
@@ -379,9 +379,9 @@ class ElasticSolid {
   Real viscosity_factor_ = 0;  // eta rho0 s c h d^2 / (4 W(0))
   Real inverse_inertia_ = 1;   // 1 / (rho0 s)
   std::size_t steps_ = 0;
-  FieldHandle<Vec<Dim>> reference_position_, velocity_, acceleration_, displacement_, fiber_, sheet_;
+  FieldHandle<Vec<Dim>> reference_position_, velocity_, acceleration_, displacement_, fibre_, sheet_;
   FieldHandle<Mat<Dim>> deformation_gradient_, correction_matrix_, stress_correction_;
-  FieldHandle<Real> jacobian_, von_mises_, fiber_stretch_, active_tension_, active_stiffness_, active_reference_stretch_;
+  FieldHandle<Real> jacobian_, von_mises_, fibre_stretch_, active_tension_, active_stiffness_, active_reference_stretch_;
 
   std::vector<Index> clamped_;
   std::vector<std::pair<Index, Index>> reflected_;  // (clamped particle, its free mirror)

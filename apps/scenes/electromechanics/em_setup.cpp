@@ -12,7 +12,7 @@ std::vector<sph::Index> attach_heart_geometry(sph::ElasticSolid<3>& solid, const
   const std::size_t n = body.n_particles();
   if (geometry.fibres.fibre.size() != n || geometry.fibres.sheet.size() != n)
     throw std::invalid_argument(scene + ": the geometry has no fibre and sheet per particle");
-  auto f = body.field(solid.fiber_field());
+  auto f = body.field(solid.fibre_field());
   auto s = body.field(solid.sheet_field());
   for (std::size_t i = 0; i < n; ++i) {
     f[i] = geometry.fibres.fibre[i].cast<sph::Real>().normalized();

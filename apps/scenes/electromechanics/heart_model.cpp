@@ -56,7 +56,7 @@ cardio::Monodomain<3>::Settings monodomain_settings(HeartModel& m, const HeartPa
   ep.repolarisation_percent = Real(p.apd_percent);
   ep.longitudinal_diffusivity = Real(m.D_fibre);
   ep.transverse_diffusivity = Real(m.D_cross);
-  const auto f = body.field(m.solid->fiber_field());
+  const auto f = body.field(m.solid->fibre_field());
   // A fast endocardial layer: D times endocardial_conduction on the endocardial particles.
   if (p.endocardial_conduction != 1) {
     ep.conduction_scale.assign(n, Real(1));

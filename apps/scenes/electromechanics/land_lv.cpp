@@ -68,7 +68,7 @@ struct LandLvParameters {
 void set_prolate_fibres(sph::ElasticSolid<3>& solid) {
   auto& body = solid.particles();
   const auto X = body.field(solid.reference_position_field());
-  auto f = body.field(solid.fiber_field());
+  auto f = body.field(solid.fibre_field());
   auto s = body.field(solid.sheet_field());
   for (std::size_t i = 0; i < body.n_particles(); ++i) {
     const double x = X[i][0], y = X[i][1], z = X[i][2], r = std::hypot(x, y);

@@ -97,7 +97,7 @@ class MyocardiumCubeScene final : public Scene {
     settings.material = law;
     settings.density = Real(p_.density);
     settings.damping_rate = Real(p_.damping_rate);
-    settings.fiber = Vec3::UnitX();
+    settings.fibre = Vec3::UnitX();
     settings.sheet = Vec3::UnitY();
     settings.active_stress = true;
     settings.numerics = p_.numerics.solid;

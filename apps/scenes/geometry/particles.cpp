@@ -17,8 +17,9 @@ class ParticlesScene final : public Scene {
   void declare(sph::Parameters& p) override {
     geometry_.settings.mesh = shipped_mesh("lv_ellipsoid.stl");
     geometry_.declare(p);
-    p.add_choice("fiber_check", fiber_check_, {"auto", "lv-ellipsoid", "none"},
+    p.add_choice("fibre_check", fibre_check_, {"auto", "lv-ellipsoid", "none"},
                  "measure the fibre angle against the analytic LV ellipsoid (auto: when the mesh is the shipped one)");
+    p.add_alias("fiber_check", "fibre_check");
     p.add("rim", rim_, "mm", "fibre check: leave out particles this close to the base plane", sph::Range::non_negative());
   }
   void check() const override { (void)geometry_.resolved(); }
@@ -92,19 +93,19 @@ class ParticlesScene final : public Scene {
     }
     std::error_code ec;
     const bool shipped_lv = std::filesystem::equivalent(settings.mesh, shipped_mesh("lv_ellipsoid.stl"), ec);
-    if (!g.fibres.transmural.empty() && (fiber_check_ == "lv-ellipsoid" || (fiber_check_ == "auto" && shipped_lv))) {
+    if (!g.fibres.transmural.empty() && (fibre_check_ == "lv-ellipsoid" || (fibre_check_ == "auto" && shipped_lv))) {
       const auto check = cardio::check_lv_ellipsoid_fibres(g.body.positions, g.fibres, geometry::LvEllipsoid{}, settings.ldrb,
                                                            rim_, 2 * settings.spacing);
-      r.results["fiber_angle_mad_deg"] = check.mad_deg;
-      r.results["fiber_angle_max_deg"] = check.max_deg;
-      r.results["fiber_check_particles"] = check.particles;
+      r.results["fibre_angle_mad_deg"] = check.mad_deg;
+      r.results["fibre_angle_max_deg"] = check.max_deg;
+      r.results["fibre_check_particles"] = check.particles;
       r.reference = "fibre angle against alpha_endo (1 - e) + alpha_epi e on the Land et al. 2015 LV, analytic directions";
     }
   }
 
  private:
   HeartGeometryParameters geometry_;
-  std::string fiber_check_ = "auto";
+  std::string fibre_check_ = "auto";
   double rim_ = 1.0;
 };
 

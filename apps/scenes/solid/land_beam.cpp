@@ -74,7 +74,7 @@ class LandBeamScene final : public Scene {
     settings.material = law;
     settings.density = static_cast<Real>(p_.density);
     settings.damping_rate = static_cast<Real>(2 * p_.damping_ratio * omega1);
-    settings.fiber = Vec3::UnitX();
+    settings.fibre = Vec3::UnitX();
     settings.sheet = Vec3::UnitY();
     settings.numerics = p_.numerics.solid;
     sph::ElasticSolid<3> solid(body, relation, settings);
