@@ -469,48 +469,42 @@ void UpdatedLagrangianBody<Dim>::advance(Real time, Real dt) {
 }
 
 template <int Dim>
+typename UpdatedLagrangianBody<Dim>::KickViews UpdatedLagrangianBody<Dim>::kick_views(Real half) {
+  KickViews k{particles_.field(velocity_), particles_.field(density_), particles_.field(energy_), particles_.field(acceleration_),
+              particles_.field(density_rate_), particles_.field(energy_rate_), particles_.field(pressure_),
+              {}, {}, {}, {}, settings_.shear_modulus > 0, settings_.yield_strength > 0, settings_.density_summation};
+  if (k.strength) {
+    k.S = particles_.field(deviatoric_stress_);
+    k.dS = particles_.field(stress_rate_);
+  }
+  if (k.plastic) k.eps_p = particles_.field(plastic_strain_);
+  if (settings_.damage) {
+    k.D = particles_.field(damage_);
+    advance_damage(k.D, particles_.field(damage_rate_), particles_.field(damage_cap_), half);
+    kick_fracture_area(half);
+  }
+  return k;
+}
+
+template <int Dim>
 void UpdatedLagrangianBody<Dim>::kick_and_drift(Real time, Real dt) {
-  const std::size_t n = particles_.n_particles();
-  auto v = particles_.field(velocity_);
-  auto rho = particles_.field(density_);
-  auto e = particles_.field(energy_);
-  const auto a = particles_.field(acceleration_);
-  const auto drho = particles_.field(density_rate_);
-  const auto de = particles_.field(energy_rate_);
-  auto& x = particles_.position;
-  const Real half = Real(0.5) * dt;
   // Kick to the half step and drift; the rates are then evaluated at the drifted positions with the
   // state predicted to the full step by the old rates.
+  const std::size_t n = particles_.n_particles();
+  v_half_.resize(n);
+  rho_half_.resize(n);
+  e_half_.resize(n);
+  if (settings_.shear_modulus > 0) s_half_.resize(n);
+  if (settings_.yield_strength > 0) eps_p_half_.resize(n);
+  const Real half = Real(0.5) * dt;
+  auto [v, rho, e, a, drho, de, p, S, dS, eps_p, D, strength, plastic, summation] = kick_views(half);  // first half kick of D^(1/3)
+  auto& x = particles_.position;
   auto& v_half = v_half_;
   auto& rho_half = rho_half_;
   auto& e_half = e_half_;
-  v_half.resize(n);
-  rho_half.resize(n);
-  e_half.resize(n);
-  const bool strength = settings_.shear_modulus > 0;
-  std::span<Mat<Dim>> S, dS;
-  if (strength) {
-    S = particles_.field(deviatoric_stress_);
-    dS = particles_.field(stress_rate_);
-    s_half_.resize(n);
-  }
-  const bool plastic = settings_.yield_strength > 0;
-  std::span<Real> eps_p;
-  if (plastic) {
-    eps_p = particles_.field(plastic_strain_);
-    eps_p_half_.resize(n);
-  }
-  const bool summation = settings_.density_summation;  // the density then comes from the positions
   const bool xsph = settings_.xsph > 0;
   std::span<const Vec<Dim>> xsph_correction;
   if (xsph) xsph_correction = particles_.field(xsph_correction_);
-  const auto p = particles_.field(pressure_);
-  std::span<Real> D;
-  if (settings_.damage) {
-    D = particles_.field(damage_);
-    advance_damage(D, particles_.field(damage_rate_), particles_.field(damage_cap_), half);  // first half kick of D^(1/3)
-    kick_fracture_area(half);
-  }
   const auto& box = settings_.periodic;
   parallel_for(n, [&](std::size_t i) {
     v_half[i] = v[i] + half * a[i];
@@ -551,34 +545,12 @@ void UpdatedLagrangianBody<Dim>::kick_and_drift(Real time, Real dt) {
 template <int Dim>
 void UpdatedLagrangianBody<Dim>::second_kick(Real time, Real dt) {
   const std::size_t n = particles_.n_particles();
-  auto v = particles_.field(velocity_);
-  auto rho = particles_.field(density_);
-  auto e = particles_.field(energy_);
-  const auto a = particles_.field(acceleration_);
-  const auto drho = particles_.field(density_rate_);
-  const auto de = particles_.field(energy_rate_);
-  auto& x = particles_.position;
   const Real half = Real(0.5) * dt;
+  auto [v, rho, e, a, drho, de, p, S, dS, eps_p, D, strength, plastic, summation] = kick_views(half);  // second half kick of D^(1/3)
+  const auto& x = particles_.position;
   const auto& v_half = v_half_;
   const auto& rho_half = rho_half_;
   const auto& e_half = e_half_;
-  const bool strength = settings_.shear_modulus > 0;
-  std::span<Mat<Dim>> S, dS;
-  if (strength) {
-    S = particles_.field(deviatoric_stress_);
-    dS = particles_.field(stress_rate_);
-  }
-  const bool plastic = settings_.yield_strength > 0;
-  std::span<Real> eps_p;
-  if (plastic) eps_p = particles_.field(plastic_strain_);
-  const bool summation = settings_.density_summation;
-  const auto p = particles_.field(pressure_);
-  std::span<Real> D;
-  if (settings_.damage) {
-    D = particles_.field(damage_);
-    advance_damage(D, particles_.field(damage_rate_), particles_.field(damage_cap_), half);
-    kick_fracture_area(half);
-  }
   // Second kick with the new rates.
   parallel_for(n, [&](std::size_t i) {
     v[i] = v_half[i] + half * a[i];

@@ -225,6 +225,18 @@ class UpdatedLagrangianBody {
   void check_state(Real time) const;
   Mat<Dim> yield(const Mat<Dim>& S, Real plastic_strain, Real pressure, Real damage, Real& plastic_increment) const;
   void kick_fracture_area(Real dt);
+  /// The fields both kicks read and write, with D^(1/3) and the fracture area advanced by `half`
+  /// (each kick takes half of the step's damage growth).
+  struct KickViews {
+    std::span<Vec<Dim>> v;
+    std::span<Real> rho, e;
+    std::span<const Vec<Dim>> a;
+    std::span<const Real> drho, de, p;
+    std::span<Mat<Dim>> S, dS;
+    std::span<Real> eps_p, D;
+    bool strength, plastic, summation;
+  };
+  KickViews kick_views(Real half);
 
   ParticleSet<Dim>& particles_;
   Settings settings_;
