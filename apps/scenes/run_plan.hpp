@@ -17,6 +17,9 @@
 namespace cardiosph {
 
 struct RunPlan {
+  RunPlan() = default;
+  RunPlan(std::string scene_name, double end, double output) : scene(std::move(scene_name)), end_time(end), output_interval(output) {}
+
   std::string scene;                          ///< name shown in the progress line
   double end_time = 0;
   double output_interval = 0;                 ///< 0: first and last state only

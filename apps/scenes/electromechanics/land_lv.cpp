@@ -174,10 +174,7 @@ class LandLvScene final : public Scene {
     };
     sph::RunRecord record;
     double& endo_z_at_nine_tenths = record.value("endo_z_at_nine_tenths", std::nan(""));
-    SolidRunPlan plan;
-    plan.scene = "land-lv";
-    plan.end_time = p_.end_time;
-    plan.output_interval = p_.numerics.discretisation.output_interval;
+    SolidRunPlan plan("land-lv", p_.end_time, p_.numerics.discretisation.output_interval);
     plan.before_step = [&](Real t, Real dt) { set_tension(double(t + dt / 2)); };
     plan.loads.push_back({"cavity pressure", sph::coupling(solid, cavities, sph::same_particles)});
     plan.observer_columns = {"endo_z", "epi_z", "midwall_z", "lv_volume"};

@@ -123,10 +123,7 @@ class MyocardiumCubeScene final : public Scene {
       return u;
     };
 
-    SolidRunPlan plan;
-    plan.scene = "myocardium-cube";
-    plan.end_time = p_.end_time;
-    plan.output_interval = p_.numerics.discretisation.output_interval;
+    SolidRunPlan plan("myocardium-cube", p_.end_time, p_.numerics.discretisation.output_interval);
     plan.observer_columns = header;
     plan.observers = [&](const sph::StepInfo&) {
       std::vector<double> row;

@@ -151,10 +151,7 @@ class DamBreakScene final : public Scene {
     double& first_rise = wall_probe.value("first_rise", std::numeric_limits<double>::quiet_NaN());
     double& peak_pressure = wall_probe.value("peak_pressure");
 
-    FluidRunPlan plan;
-    plan.scene = Dim == 2 ? "dambreak" : "dambreak-3d";
-    plan.end_time = p_.end_time;
-    plan.output_interval = p_.numerics.discretisation.output_interval;
+    FluidRunPlan plan(Dim == 2 ? "dambreak" : "dambreak-3d", p_.end_time, p_.numerics.discretisation.output_interval);
     plan.sample_interval = std::min(0.01, p_.end_time / 100);
     plan.observer_columns = {"wall_pressure", "surge_front"};
     plan.observers = [&](const sph::StepInfo& s) {

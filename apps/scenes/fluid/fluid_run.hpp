@@ -61,6 +61,7 @@ geometry::WallParticles<Dim> box_walls(const std::string& name, const sph::Vec<D
                                        sph::Real dp, int layers, std::array<bool, Dim> periodic = {});
 
 struct FluidRunPlan : RunPlan {  // sample_interval 0: end_time / 200 (also the energies)
+  using RunPlan::RunPlan;
   /// Adds bodies, couplings and open boundaries to the run (may be empty): their outputs on the
   /// harness, their couplings in the slots of the fluid's step (WeaklyCompressibleFluid::advection_stage).
   std::function<void(sph::RunHarness&, sph::Stage& fluid_step)> extend;

@@ -98,25 +98,11 @@ class HydrostaticTankScene final : public Scene {
     const double initial_surface = surface_height();
     // What the observer keeps: the floor pressure summed and the largest speed over the second half
     // of the run, and the largest drift of the surface.
-    struct Rest {
-      double pressure_sum = 0, max_speed_late = 0, max_drift = 0;
-      std::size_t late_samples = 0;
-      void checkpoint(sph::StateArchive& a) {
-        a.io("pressure_sum", pressure_sum);
-        a.io("max_speed_late", max_speed_late);
-        a.io("max_drift", max_drift);
-        a.io("late_samples", late_samples);
-      }
-    } rest;
-    auto& pressure_sum = rest.pressure_sum;
-    auto& max_speed_late = rest.max_speed_late;
-    auto& max_drift = rest.max_drift;
-    auto& late_samples = rest.late_samples;
+    sph::RunRecord rest;
+    double &pressure_sum = rest.value("pressure_sum"), &max_speed_late = rest.value("max_speed_late"),
+           &max_drift = rest.value("max_drift"), &late_samples = rest.value("late_samples");
 
-    FluidRunPlan plan;
-    plan.scene = "hydrostatic-tank";
-    plan.end_time = p_.end_time;
-    plan.output_interval = p_.numerics.discretisation.output_interval;
+    FluidRunPlan plan("hydrostatic-tank", p_.end_time, p_.numerics.discretisation.output_interval);
     plan.observer_columns = {"bottom_pressure", "max_speed", "surface_height"};
     plan.observers = [&](const sph::StepInfo& s) {
       const double pressure = floor_pressure();
@@ -133,7 +119,7 @@ class HydrostaticTankScene final : public Scene {
     plan.keep("rest", rest);
     run_fluid<2>(fluid, {&tank}, plan, ctx);
 
-    const double bottom = pressure_sum / double(std::max<std::size_t>(late_samples, 1));
+    const double bottom = pressure_sum / std::max(late_samples, 1.0);
     auto& report = ctx.report;
     report.reference = "hydrostatic pressure rho g H at the floor; fluid at rest";
     report.errors["bottom_pressure_relative"] = std::abs(bottom - reference_pressure) / reference_pressure;

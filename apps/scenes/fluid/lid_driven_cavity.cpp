@@ -73,10 +73,7 @@ class LidDrivenCavityScene final : public Scene {
     sph::WeaklyCompressibleFluid<2> fluid(water, settings);
     fluid.add_wall(walls);
 
-    FluidRunPlan plan;
-    plan.scene = "lid-driven-cavity";
-    plan.end_time = p_.end_time;
-    plan.output_interval = p_.numerics.discretisation.output_interval;
+    FluidRunPlan plan("lid-driven-cavity", p_.end_time, p_.numerics.discretisation.output_interval);
     run_fluid<2>(fluid, {&walls}, plan, ctx);
 
     std::vector<Vec2> points;

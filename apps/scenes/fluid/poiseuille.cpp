@@ -74,10 +74,7 @@ class PoiseuilleScene final : public Scene {
     // What the observer keeps: the first time the mean speed is within 1 % of its steady value.
     sph::RunRecord steady;
     double& steady_time = steady.value("steady_time", std::nan(""));
-    FluidRunPlan plan;
-    plan.scene = "poiseuille";
-    plan.end_time = p_.end_time;
-    plan.output_interval = p_.numerics.discretisation.output_interval;
+    FluidRunPlan plan("poiseuille", p_.end_time, p_.numerics.discretisation.output_interval);
     plan.observer_columns = {"mean_speed", "steady_mean_speed"};
     plan.observers = [&](const sph::StepInfo& s) {
       const double mean = mean_speed();

@@ -60,10 +60,7 @@ class TaylorGreenScene final : public Scene {
     sph::RunRecord kinetic;
     double& initial_energy = kinetic.value("initial");
     auto &times = kinetic.series("times"), &log_energy = kinetic.series("log_energy");
-    FluidRunPlan plan;
-    plan.scene = "taylor-green";
-    plan.end_time = p_.end_time;
-    plan.output_interval = p_.numerics.discretisation.output_interval;
+    FluidRunPlan plan("taylor-green", p_.end_time, p_.numerics.discretisation.output_interval);
     plan.observer_columns = {"kinetic_energy", "exact_kinetic_energy"};
     plan.observers = [&](const sph::StepInfo& s) {
       const double e = fluid.energies().kinetic;

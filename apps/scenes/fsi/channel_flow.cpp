@@ -238,10 +238,7 @@ class ChannelFlowScene final : public Scene {
     Vec2& force_sum = force_integral.sum;
     double& force_time = force_integral.time;
 
-    FluidRunPlan plan;
-    plan.scene = name_;
-    plan.end_time = p_.end_time;
-    plan.output_interval = p_.numerics.discretisation.output_interval;
+    FluidRunPlan plan(name_, p_.end_time, p_.numerics.discretisation.output_interval);
     plan.sample_interval = std::min(0.05, p_.end_time / 200);
     plan.observer_columns = {"tip_dx", "tip_dy", "force_x", "force_y"};
     plan.observers = [&](const sph::StepInfo& s) {

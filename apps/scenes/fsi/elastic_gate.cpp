@@ -134,10 +134,7 @@ class ElasticGateScene final : public Scene {
     sph::RunRecord tip;  // the corner's displacement at every sample and its extremes
     double &max_dx = tip.value("max_dx"), &max_dy = tip.value("max_dy"), &time_of_max_dx = tip.value("time_of_max_dx");
     auto &times = tip.series("times"), &dxs = tip.series("dxs"), &dys = tip.series("dys");
-    FluidRunPlan plan;
-    plan.scene = "elastic-gate";
-    plan.end_time = p_.end_time;
-    plan.output_interval = p_.numerics.discretisation.output_interval;
+    FluidRunPlan plan("elastic-gate", p_.end_time, p_.numerics.discretisation.output_interval);
     plan.sample_interval = p_.end_time / 400;
     plan.observer_columns = {"tip_dx", "tip_dy"};
     plan.observers = [&](const sph::StepInfo& s) {

@@ -116,24 +116,15 @@ class HydrostaticPlateScene final : public Scene {
     };
 
     const double reference = reference_deflection();
-    struct LateDeflection {  // the mid-span deflection summed over the last 40 % of the run
-      double sum = 0;
-      std::size_t samples = 0;
-      void checkpoint(sph::StateArchive& a) {
-        a.io("sum", sum);
-        a.io("samples", samples);
-      }
-    } late;
-    FluidRunPlan plan;
-    plan.scene = "hydrostatic-plate";
-    plan.end_time = p_.end_time;
-    plan.output_interval = p_.numerics.discretisation.output_interval;
+    sph::RunRecord late;  // the mid-span deflection summed over the last 40 % of the run
+    double &late_sum = late.value("sum"), &late_samples = late.value("samples");
+    FluidRunPlan plan("hydrostatic-plate", p_.end_time, p_.numerics.discretisation.output_interval);
     plan.observer_columns = {"mid_span_deflection", "reference"};
     plan.observers = [&](const sph::StepInfo& s) {
       const double w = deflection();
       if (s.time >= 0.6 * p_.end_time) {
-        late.sum += w;
-        ++late.samples;
+        late_sum += w;
+        ++late_samples;
       }
       return std::vector<double>{w, reference};
     };
@@ -143,7 +134,7 @@ class HydrostaticPlateScene final : public Scene {
     plan.keep("late_deflection", late);
     run_fluid<2>(fluid, {&walls}, plan, ctx);
 
-    const double measured = late.sum / double(std::max<std::size_t>(late.samples, 1));
+    const double measured = late_sum / std::max(late_samples, 1.0);
     auto& report = ctx.report;
     report.reference = "clamped-clamped plate under water and self weight, w = q L^4 / (384 D) (Fourey et al. 2017)";
     report.errors["deflection_relative"] = relative_error(measured, reference);

@@ -75,10 +75,7 @@ class CantileverScene final : public Scene {
     auto tip_position = [&] { return material_point_positions<3>(tip_probe, solid)[0]; };
     sph::RunRecord record;
     double& max_deflection = record.value("max_deflection");
-    SolidRunPlan plan;
-    plan.scene = "cantilever";
-    plan.end_time = p_.end_time;
-    plan.output_interval = p_.numerics.discretisation.output_interval;
+    SolidRunPlan plan("cantilever", p_.end_time, p_.numerics.discretisation.output_interval);
     plan.observer_columns = {"tip_x", "tip_y", "tip_z"};
     plan.observers = [&](const sph::StepInfo&) {
       const Vec3 tip = tip_position();
@@ -159,10 +156,7 @@ class TwistingColumnScene final : public Scene {
       }
       return std::atan2(cross, dot);
     };
-    SolidRunPlan plan;
-    plan.scene = "twisting-column";
-    plan.end_time = p_.end_time;
-    plan.output_interval = p_.numerics.discretisation.output_interval;
+    SolidRunPlan plan("twisting-column", p_.end_time, p_.numerics.discretisation.output_interval);
     plan.every_step = [&](const sph::StepInfo&) {
       const double angle = top_rotation();
       twist += std::remainder(angle - std::remainder(twist, 2 * M_PI), 2 * M_PI);

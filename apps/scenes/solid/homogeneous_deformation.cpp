@@ -108,10 +108,7 @@ class HomogeneousDeformationScene final : public Scene {
           [&](const Vec3& X, Real t) { return Vec3(centre + mode.F(ramp(t)) * (X - centre)); },
           [&](const Vec3& X, Real t) { return Vec3(ramp_rate(t) * (mode.dF(ramp(t)) * (X - centre))); });
 
-      SolidRunPlan plan;
-      plan.scene = "homogeneous-deformation " + mode.name;
-      plan.end_time = p_.end_time;
-      plan.output_interval = p_.numerics.discretisation.output_interval;
+      SolidRunPlan plan("homogeneous-deformation " + mode.name, p_.end_time, p_.numerics.discretisation.output_interval);
       steps += run_solid<3>(solid, relation, plan, ctx).steps;
 
       // Interior stress against the law at the final F, sigma = J^-1 F S F^T.

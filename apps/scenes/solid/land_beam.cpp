@@ -92,10 +92,7 @@ class LandBeamScene final : public Scene {
     auto tip_position = [&] { return material_point_positions<3>(probe, solid)[0]; };
     sph::RunRecord record;
     double& z_at_nine_tenths = record.value("z_at_nine_tenths", std::nan(""));
-    SolidRunPlan plan;
-    plan.scene = "land-beam";
-    plan.end_time = p_.end_time;
-    plan.output_interval = p_.numerics.discretisation.output_interval;
+    SolidRunPlan plan("land-beam", p_.end_time, p_.numerics.discretisation.output_interval);
     plan.observer_columns = {"x", "y", "z"};
     plan.observers = [&](const sph::StepInfo& s) {
       const Vec3 x = tip_position();

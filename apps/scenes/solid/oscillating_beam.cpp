@@ -86,10 +86,7 @@ class OscillatingBeamScene final : public Scene {
     double &previous_time = record.value("previous_time"), &previous_deflection = record.value("previous_deflection"),
            &amplitude = record.value("amplitude");
 
-    SolidRunPlan plan;
-    plan.scene = "oscillating-beam";
-    plan.end_time = p_.end_time;
-    plan.output_interval = p_.numerics.discretisation.output_interval;
+    SolidRunPlan plan("oscillating-beam", p_.end_time, p_.numerics.discretisation.output_interval);
     plan.observer_columns = {"tip_deflection"};
     plan.observers = [&](const sph::StepInfo&) { return std::vector<double>{tip_deflection()}; };
     plan.every_step = [&](const sph::StepInfo& s) {

@@ -31,6 +31,7 @@ void declare_solid_numerics(sph::Parameters& p, SolidSceneNumerics& n, const std
 void check_whole_spacings(double extent, double spacing, const std::string& name);
 
 struct SolidRunPlan : RunPlan {  // sample_interval 0: end_time / 100 (also the energies)
+  using RunPlan::RunPlan;
   std::function<void(sph::Real time, sph::Real dt)> before_step;  ///< before each step (may be empty)
   /// Couplings that load the solid, in its loads slot (sph::ElasticSolid::stage), in this order.
   std::vector<std::pair<std::string, sph::StepAction>> loads;
