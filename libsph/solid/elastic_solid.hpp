@@ -247,7 +247,8 @@ class ElasticSolid {
   /// Equilibrium check of a (quasi-)static state: the l2 norms over the unconstrained particles of
   /// the net nodal force V_i rho0 a_i (stress, hourglass, loads and body force; no damping) and of
   /// the part of it from the active stress alone, at the current positions and `time`.
-  /// `load` is the l2 norm of the loads and the body force on the same particles.
+  /// `load` is the l2 norm of the loads and the body force on the same particles. The couplings'
+  /// external force enters as the last step's loads slot left it (the slot runs inside a step).
   struct Residual {
     double net = 0, active = 0, load = 0;
   };
