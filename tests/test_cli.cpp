@@ -352,6 +352,15 @@ TEST_F(Cli, HeartRejectsAnImpossibleCirculation) {
   expect_rejected({"heart", "--set", "circulation_systemic_arterial_compliance=-1"}, "circulation_systemic_arterial_compliance");
   expect_rejected({"heart", "--set", "circulation_aortic_resistance=0"}, "circulation_aortic_resistance");
 }
+TEST_F(Cli, HeartRejectsABadReferenceRun) {
+  expect_rejected({"heart", "--set", "reference_run=" + (folder_ / "nowhere").string()}, "cannot read");
+  expect_rejected({"heart", "--set", "reference_run=" + write("bad.json", "{\"results\": 3").string()}, "is not a report");
+  expect_rejected({"heart", "--set", "reference_run=" + write("empty.json", "{\"results\": {\"beats\": []}}").string()},
+                  "holds no beat");
+  expect_rejected({"heart", "--set", "cavity_pressure=constant", "--set",
+                   "reference_run=" + write("one.json", "{\"results\": {\"beats\": [{}]}}").string()},
+                  "needs cavity_pressure = circulation");
+}
 TEST_F(Cli, HeartRejectsTheLandTensionWithoutCalcium) {
   expect_rejected({"heart", "--set", "cell_model=aliev_panfilov"}, "tension_model");
 }

@@ -8,6 +8,9 @@
 #include <cmath>
 #include <iostream>
 
+#include <nlohmann/json.hpp>
+
+#include "apps/scenes/electromechanics/heart_output.hpp"
 #include "cardio/active_tension.hpp"
 #include "cardio/cavity.hpp"
 #include "cardio/electromechanics.hpp"
@@ -64,6 +67,28 @@ TEST(ActiveTension, StaysTensileBelowRestUnlessAllowed) {
   EXPECT_NEAR(s.rate(0), s.eps_active, 1e-12);
   s.eps_rest = 0;
   EXPECT_THROW(s.check(), std::invalid_argument);
+}
+
+// The heart's errors against a reference run: absolute differences on the last beat both ran.
+TEST(HeartReference, ErrorsAreTheDifferencesOnTheLastCommonBeat) {
+  auto beat = [](double ef, double peak, double edp) {
+    return nlohmann::json{{"ejection_fraction", ef}, {"peak_pressure_kPa", peak}, {"edp_kPa", edp}};
+  };
+  sph::RunReport r;
+  r.results["beats"] = nlohmann::json::array({{{"lv", beat(0.50, 14, 1.0)}, {"rv", beat(0.40, 3, 0.4)}},
+                                              {{"lv", beat(0.60, 16, 1.2)}, {"rv", beat(0.45, 3.5, 0.5)}}});
+  // The reference ran three beats: the second one is compared.
+  const nlohmann::json reference = nlohmann::json::array({{{"lv", beat(0.1, 1, 1)}, {"rv", beat(0.1, 1, 1)}},
+                                                          {{"lv", beat(0.58, 16.5, 1.25)}, {"rv", beat(0.46, 3.0, 0.3)}},
+                                                          {{"lv", beat(0.9, 9, 9)}, {"rv", beat(0.9, 9, 9)}}});
+  cardiosph::compare_with_reference(r, reference, "ref");
+  EXPECT_NEAR(r.errors.value("lv_ejection_fraction_pp", -1), 2.0, 1e-12);
+  EXPECT_NEAR(r.errors.value("rv_ejection_fraction_pp", -1), 1.0, 1e-12);
+  EXPECT_NEAR(r.errors.value("lv_peak_pressure_kPa", -1), 0.5, 1e-12);
+  EXPECT_NEAR(r.errors.value("rv_peak_pressure_kPa", -1), 0.5, 1e-12);
+  EXPECT_NEAR(r.errors.value("lv_end_diastolic_pressure_kPa", -1), 0.05, 1e-12);
+  EXPECT_NEAR(r.errors.value("rv_end_diastolic_pressure_kPa", -1), 0.2, 1e-12);
+  EXPECT_NE(r.reference.find("beat 2"), std::string::npos) << r.reference;
 }
 
 TEST(Electromechanics, PulledBackConductionIsFInverseDOfTheDeformedFibreFInverseTransposed) {

@@ -132,6 +132,7 @@ void HeartScene::run(RunContext& ctx) {
   if (beats) {
     beats->report(r);
     beats->plot(ctx.output_dir);
+    if (!p_.reference_run.empty()) compare_with_reference(r, reference_beats(p_.reference_run), p_.reference_run);
   }
   for (const auto& c : calibrated_parameters())
     r.results["calibration"].push_back({{"parameter", c.key},

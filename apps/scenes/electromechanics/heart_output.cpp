@@ -133,6 +133,23 @@ void HeartBeats::report(sph::RunReport& r) const {
   r.results["healthy_ranges"] = ranges;
 }
 
+void compare_with_reference(sph::RunReport& r, const nlohmann::json& reference_beats, const std::filesystem::path& run) {
+  if (!r.results.contains("beats")) return;
+  const auto& beats = r.results.at("beats");
+  if (!beats.is_array() || beats.empty()) return;
+  const std::size_t k = std::min(beats.size(), reference_beats.size()) - 1;
+  for (const char* v : {"lv", "rv"}) {
+    const auto& a = beats[k][v];
+    const auto& b = reference_beats[k][v];
+    const std::string name(v);
+    r.errors[name + "_ejection_fraction_pp"] =
+        100 * std::abs(a["ejection_fraction"].get<double>() - b["ejection_fraction"].get<double>());
+    r.errors[name + "_peak_pressure_kPa"] = std::abs(a["peak_pressure_kPa"].get<double>() - b["peak_pressure_kPa"].get<double>());
+    r.errors[name + "_end_diastolic_pressure_kPa"] = std::abs(a["edp_kPa"].get<double>() - b["edp_kPa"].get<double>());
+  }
+  r.reference = "the run of " + run.string() + ", beat " + std::to_string(k + 1);
+}
+
 void HeartBeats::plot(const std::filesystem::path& folder) const {
   const auto columns = coupling_.circulation().columns();
   auto column = [&](const std::string& name) {

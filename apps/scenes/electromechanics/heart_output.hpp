@@ -30,7 +30,7 @@ class HeartRecorder {
     std::vector<std::string> cavity_columns;
     for (std::size_t c = 0; c < heart.cavities->size(); ++c)
       for (const char* q : {"_volume", "_pressure"}) cavity_columns.push_back(heart.cavities->name(c) + q);
-    for (const char* column : {"kinetic", "strain", "min_J", "max_J", "max_T_a", "mean_V"}) cavity_columns.push_back(column);
+    for (const char* column : {"kinetic", "strain", "min_J", "max_J", "max_T_a", "mean_V", "mechanics_dt", "max_k_a"}) cavity_columns.push_back(column);
     run.add_time_series("cavities.csv", cavity_columns, Real(p.sample_interval), [this](const sph::StepInfo& s) { return cavity_row(s); });
     std::vector<std::string> observer_columns;
     for (const auto& name : observer_names_)
@@ -44,7 +44,8 @@ class HeartRecorder {
       a.io("peak_pressure", peak_pressure_);
       for (auto [name, value] : {std::pair{"min_J", &min_J_}, {"max_J", &max_J_}, {"peak_tension", &peak_tension_},
                                  {"peak_kinetic", &peak_kinetic_}, {"peak_strain", &peak_strain_},
-                                 {"peak_displacement", &peak_displacement_}})
+                                 {"peak_displacement", &peak_displacement_},
+                                 {"smallest_step", &smallest_step_}, {"peak_active_stiffness", &peak_active_stiffness_}})
         a.io(name, *value);
       std::string end_of_beat = end_of_beat_.dump();
       a.io("end_of_beat", end_of_beat);
@@ -71,6 +72,10 @@ class HeartRecorder {
     // strain energy.
     r.results["kinetic_to_strain_energy_ratio"] = peak_strain_ > 0 ? peak_kinetic_ / peak_strain_ : 0.0;
     r.results["end_of_beat"] = end_of_beat_;
+    // What sizes the explicit mechanics step (cavities.csv: mechanics_dt, max_k_a): the solid's
+    // largest tangent modulus, in systole the crossbridge stiffness k_a of the Land model.
+    r.results["smallest_sampled_mechanics_time_step_ms"] = smallest_step_;
+    r.results["peak_active_stiffness_kPa"] = peak_active_stiffness_;
   }
 
  private:
@@ -104,7 +109,13 @@ class HeartRecorder {
       peak_pressure_[c] = std::max(peak_pressure_[c], pressure);
     }
     const double max_T = heart_.max_tension();
-    row.insert(row.end(), {e.kinetic, e.strain, double(e.min_jacobian), double(e.max_jacobian), max_T, heart_.mean_potential()});
+    const double dt = heart_.solid->stable_time_step();
+    const auto& k_a = heart_.tension->stiffness();
+    const double max_k_a = k_a.empty() ? 0.0 : double(*std::max_element(k_a.begin(), k_a.end()));
+    row.insert(row.end(), {e.kinetic, e.strain, double(e.min_jacobian), double(e.max_jacobian), max_T, heart_.mean_potential(),
+                           dt, max_k_a});
+    smallest_step_ = std::min(smallest_step_, dt);
+    peak_active_stiffness_ = std::max(peak_active_stiffness_, max_k_a);
     min_J_ = std::min<double>(min_J_, e.min_jacobian);
     max_J_ = std::max<double>(max_J_, e.max_jacobian);
     peak_tension_ = std::max(peak_tension_, max_T);
@@ -134,6 +145,7 @@ class HeartRecorder {
   std::vector<std::string> observer_names_;
   std::vector<double> volume_min_, volume_max_, peak_pressure_;
   double min_J_ = 1, max_J_ = 1, peak_tension_ = 0, peak_kinetic_ = 0, peak_strain_ = 0, peak_displacement_ = 0;
+  double smallest_step_ = std::numeric_limits<double>::infinity(), peak_active_stiffness_ = 0;
   nlohmann::json end_of_beat_ = {{"energy", nlohmann::json::array()},
                                  {"lv_volume_mm3", nlohmann::json::array()},
                                  {"max_displacement_mm", nlohmann::json::array()},
@@ -168,6 +180,11 @@ class HeartBeats {
   bool was_closed_[2] = {false, false};
   double closed_volume_[2] = {0, 0}, isovolumic_change_[2] = {0, 0};
 };
+
+/// The errors of this run (its results.beats, written by HeartBeats::report) against the reference
+/// run's beats (reference_beats()), on the last beat both ran: the LV and RV ejection fractions in
+/// percentage points, peak and end-diastolic pressures in kPa; `reference` names the run and beat.
+void compare_with_reference(sph::RunReport& r, const nlohmann::json& reference_beats, const std::filesystem::path& run);
 
 /// activation_map.csv (reference x, y, z, first activation time after the first stimulus at
 /// `origin`, -1 where not activated, and with the maps the latest APD) and activation_map.png, the

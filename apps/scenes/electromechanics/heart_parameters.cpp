@@ -5,6 +5,10 @@
 #include "geometry/tet_mesh.hpp"
 #include "libsph/io/parameters.hpp"
 
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
 namespace cardiosph {
 namespace {
 
@@ -197,6 +201,9 @@ void declare_heart_parameters(sph::Parameters& p, HeartParameters& p_) {
   p.add("sample_interval", p_.sample_interval, "ms", "time between rows of cavities.csv and observers.csv",
         sph::Range::positive());
   declare_solid_numerics(p, p_.numerics, "ms");
+  p.add_path("reference_run", p_.reference_run,
+             "report.json of a run of the same heart (or its folder): the report's errors are this run's ejection "
+             "fractions, peak and end-diastolic pressures against it, on the last beat both ran (for `study`)");
 }
 
 void check_heart_parameters(const HeartParameters& p_) {
@@ -233,6 +240,28 @@ void check_heart_parameters(const HeartParameters& p_) {
   }
   if (p_.stimulus_site == StimulusSite::box && !(p_.stimulus_box_min.array() < p_.stimulus_box_max.array()).all())
     throw sph::ParameterError("parameter 'stimulus_box_min' must lie below 'stimulus_box_max' in x, y and z");
+  if (!p_.reference_run.empty()) {
+    if (p_.cavity_pressure.mode != cardio::CavityPressureMode::circulation)
+      throw sph::ParameterError("parameter 'reference_run' compares beats: it needs cavity_pressure = circulation");
+    (void)reference_beats(p_.reference_run);
+  }
+}
+
+nlohmann::json reference_beats(const std::filesystem::path& run) {
+  const auto file = std::filesystem::is_directory(run) ? run / "report.json" : run;
+  std::ifstream in(file);
+  if (!in) throw sph::ParameterError("parameter 'reference_run': cannot read '" + file.string() + "'");
+  nlohmann::json report;
+  try {
+    report = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw sph::ParameterError("parameter 'reference_run': '" + file.string() + "' is not a report (" + e.what() + ")");
+  }
+  const auto results = report.find("results");
+  if (results == report.end() || !results->contains("beats") || !(*results)["beats"].is_array() || (*results)["beats"].empty())
+    throw sph::ParameterError("parameter 'reference_run': '" + file.string() +
+                              "' holds no beat (a heart run with cavity_pressure = circulation that completed a beat)");
+  return (*results)["beats"];
 }
 
 const std::vector<CalibratedParameter>& calibrated_parameters() {

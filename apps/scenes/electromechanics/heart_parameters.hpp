@@ -7,6 +7,8 @@
 #include <utility>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include "apps/scenes/electrophysiology/cell_variation.hpp"
 #include "apps/scenes/electrophysiology/ecg_output.hpp"
 #include "apps/scenes/geometry/heart_geometry_parameters.hpp"
@@ -94,6 +96,9 @@ struct HeartParameters {
   cardio::CirculationSettings circulation;
   double sample_interval = 2;
   SolidSceneNumerics numerics;
+  /// A run of the same heart to compare with (its report.json, or the folder holding it): the
+  /// report's errors are this run's beat measures against the reference's on the last beat both ran.
+  std::filesystem::path reference_run;
 };
 
 /// The defaults of the heart scene (the shipped biventricular mesh, the beat's solid numerics and
@@ -118,6 +123,10 @@ struct CalibratedParameter {
 };
 
 const std::vector<CalibratedParameter>& calibrated_parameters();
+
+/// The beats (results.beats of report.json) of a reference run, `run` the report or its folder;
+/// sph::ParameterError naming the file when it is missing, unreadable or holds no beat.
+nlohmann::json reference_beats(const std::filesystem::path& run);
 
 /// The time of the first stimulus: after the preload phase when the circulation drives the cavities.
 inline double beat_origin(const HeartParameters& p) {
