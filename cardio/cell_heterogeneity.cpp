@@ -96,7 +96,7 @@ CellGroups ten_tusscher_groups(const CellHeterogeneity& h, std::size_t n, std::s
       }
       for (const auto& d : h.drugs) p.scale(d.channel, 1 / (1 + std::pow(h.drug_concentration / d.ic50, d.hill)));
       found = index.emplace(key, std::uint16_t(groups.models.size())).first;
-      groups.models.push_back(TP06(p));
+      groups.models.push_back(TP06(p).with_voltage_table(h.lookup_table));
       std::string name = layer;
       if (h.apicobasal_gks_ratio != 1) name += " band " + std::to_string(band + 1);
       if (coordinates) name += in_rv ? " rv" : " lv";

@@ -42,6 +42,9 @@ struct CellHeterogeneity {
   std::vector<ConductanceScaling> scalings;
   std::vector<DrugBlock> drugs;
   double drug_concentration = 0;
+  /// [mV] every group's model with its functions of V in lookup tables of this step
+  /// (TenTusscherPanfilov2006::with_voltage_table); 0: exact.
+  double lookup_table = 0;
 
   /// Throws std::invalid_argument naming the problem (unknown channel or region, layers that do not
   /// fit in the wall, non-positive IC50 or Hill coefficient, negative factors or concentration).

@@ -17,6 +17,7 @@
 
 #include <stdexcept>
 
+#include <algorithm>
 #include <cmath>
 #include <initializer_list>
 #include <optional>
@@ -90,6 +91,86 @@ TenTusscherPanfilov2006::TenTusscherPanfilov2006(Parameters parameters) : p_(par
   sqrt_K_o_factor_ = std::sqrt(p_.K_o / 5.4);
   // [pA/pF] x [pF] / ([C/mmol] [um^3]) = 1e-15 mmol/ms / 1e-15 L = mM/ms.
   current_to_flux_c_ = p_.membrane_capacitance / (p_.cytoplasm_volume * p_.faraday_constant);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Lookup tables of the functions of V alone (with_voltage_table).
+// ---------------------------------------------------------------------------------------------
+int TenTusscherPanfilov2006::tabulated_gate(std::size_t k) {
+  switch (k) {
+    case SI::m: return 0;
+    case SI::h: return 2;
+    case SI::j: return 4;
+    case SI::Xr1: return 6;
+    case SI::Xr2: return 8;
+    case SI::Xs: return 10;
+    case SI::r: return 12;
+    case SI::s: return 14;
+    case SI::d: return 16;
+    case SI::f: return 18;
+    case SI::f2: return 20;
+    default: return -1;
+  }
+}
+
+TenTusscherPanfilov2006 TenTusscherPanfilov2006::with_voltage_table(double step) const {
+  TenTusscherPanfilov2006 model(p_);
+  if (step == 0) return model;
+  if (!(step > 0) || !(step <= 1))
+    throw std::invalid_argument("ten Tusscher-Panfilov: the lookup table step must lie in (0, 1] mV");
+  auto table = std::make_shared<VoltageTable>();
+  const VoltageRange range = valid_voltage();
+  table->v_min = range.lower;
+  table->step = step;
+  table->rows = std::size_t(std::ceil((range.upper - range.lower) / step)) + 1;
+  table->inverse_step = 1 / step;
+  table->last_node = double(table->rows - 1) - 1e-9;  // u below it: row r + 1 exists
+  table->values.resize(table->rows * n_columns);
+  for (std::size_t r = 0; r < table->rows; ++r) {
+    const double V = range.lower + double(r) * step;
+    double* row = &table->values[r * n_columns];
+    for (std::size_t k = SI::Xr1; k <= SI::r; ++k)
+      if (const int column = tabulated_gate(k); column >= 0) {
+        const GateKinetics<double> g = gate_kinetics<double>(k, V, 0.0);
+        row[column] = g.steady_state / g.time_constant;
+        row[column + 1] = 1 / g.time_constant;
+      }
+    const double phi = V / RT_over_F_;
+    const double e_reverse = std::exp((p_.gamma_NaCa - 1) * phi);
+    const double x = 2 * (V - 15) / RT_over_F_;
+    row[pK] = 1 / (1 + std::exp((25 - V) / 5.98));
+    row[NaK] = 1 / (1 + 0.1245 * std::exp(-0.1 * phi) + 0.0353 * std::exp(-phi));
+    row[NaCa_forward] = std::exp(p_.gamma_NaCa * phi) / (1 + p_.K_sat * e_reverse);
+    row[NaCa_reverse] = e_reverse / (1 + p_.K_sat * e_reverse);
+    row[CaL] = x_over_expm1(x);
+    row[CaL_ss] = x_over_expm1(x) * std::exp(x);
+  }
+  model.table_ = std::move(table);
+  return model;
+}
+
+// Linear interpolation between the rows around V; V outside the table takes the end row's value
+// (valid_voltage(), outside which the reaction system stops the run).
+double TenTusscherPanfilov2006::VoltageTable::at(int column, double V) const {
+  const double u = std::clamp((V - v_min) * inverse_step, 0.0, last_node);
+  const auto r = std::size_t(u);
+  const double w = u - double(r);
+  const double* row = &values[r * n_columns + std::size_t(column)];
+  return row[0] + w * (row[n_columns] - row[0]);
+}
+
+// The rows and weights of all lanes at once; the values gathered lane by lane.
+Lanes TenTusscherPanfilov2006::VoltageTable::at(int column, const Lanes& V) const {
+  const Lanes u = ((V - v_min) * inverse_step).max(0.0).min(last_node);
+  const Lanes r = u.floor();
+  const Lanes w = u - r;
+  Lanes low, high;
+  for (int l = 0; l < lane_count; ++l) {
+    const double* row = &values[std::size_t(r[l]) * n_columns + std::size_t(column)];
+    low[l] = row[0];
+    high[l] = row[n_columns];
+  }
+  return low + w * (high - low);
 }
 
 TenTusscherPanfilov2006::State TenTusscherPanfilov2006::initial_state() const {
@@ -238,7 +319,7 @@ TenTusscherPanfilov2006::PotassiumCurrents<T> TenTusscherPanfilov2006::potassium
   const T g_to = p_.g_to * y[SI::r] * y[SI::s];                         // I_to = g_to r s (V - E_K)
   const T g_Kr = p_.g_Kr * sqrt_K_o_factor_ * y[SI::Xr1] * y[SI::Xr2];  // I_Kr
   const T g_Ks = p_.g_Ks * square(y[SI::Xs]);                           // I_Ks = g_Ks Xs^2 (V - E_Ks)
-  const T g_pK = p_.g_pK / (1 + exp((25 - V) / 5.98));                  // I_pK
+  const T g_pK = table_ ? T(p_.g_pK * table_->at(pK, V)) : T(p_.g_pK / (1 + exp((25 - V) / 5.98)));  // I_pK
   PotassiumCurrents<T> I;
   I.I_K1 = g_K1 * (V - E_K);
   I.I_to = g_to * (V - E_K);
@@ -271,9 +352,14 @@ T TenTusscherPanfilov2006::background_calcium(const T& V, const T& Ca_i) const {
 // The term in Ca_ss has coefficient g_CaL d f f2 fCass 2 F (x / (e^x - 1)) 0.25 e^x >= 0.
 template <class T>
 TenTusscherPanfilov2006::Split<T> TenTusscherPanfilov2006::l_type_calcium(const StateOf<T>& y) const {
+  const T gates = p_.g_CaL * y[SI::d] * y[SI::f] * y[SI::f2] * y[SI::fCass] * 2 * p_.faraday_constant;
+  if (table_) {
+    const T scale = gates * table_->at(CaL, y[SI::V]);
+    return {gates * table_->at(CaL_ss, y[SI::V]) * 0.25 * y[SI::Ca_ss] - scale * p_.Ca_o,
+            gates * table_->at(CaL_ss, y[SI::V]) * 0.25};
+  }
   const T x = 2 * (y[SI::V] - 15) / RT_over_F_;
-  const T scale =
-      p_.g_CaL * y[SI::d] * y[SI::f] * y[SI::f2] * y[SI::fCass] * 2 * p_.faraday_constant * x_over_expm1(x);
+  const T scale = gates * x_over_expm1(x);
   const T ca_ss_coefficient = scale * 0.25 * exp(x);
   return {ca_ss_coefficient * y[SI::Ca_ss] - scale * p_.Ca_o, ca_ss_coefficient};
 }
@@ -284,6 +370,11 @@ TenTusscherPanfilov2006::Split<T> TenTusscherPanfilov2006::l_type_calcium(const 
 template <class T>
 TenTusscherPanfilov2006::Split<T> TenTusscherPanfilov2006::sodium_calcium_exchange(const T& V, const T& Na_i,
                                                                                    const T& Ca_i) const {
+  if (table_) {
+    const double scale = p_.K_NaCa / ((p_.Km_Nai * p_.Km_Nai * p_.Km_Nai + p_.Na_o * p_.Na_o * p_.Na_o) * (p_.Km_Ca + p_.Ca_o));
+    const T ca_i_coefficient = scale * table_->at(NaCa_reverse, V) * (p_.Na_o * p_.Na_o * p_.Na_o * p_.alpha_NaCa);
+    return {scale * table_->at(NaCa_forward, V) * Na_i * Na_i * Na_i * p_.Ca_o - ca_i_coefficient * Ca_i, ca_i_coefficient};
+  }
   const T phi = V / RT_over_F_;
   const T e_forward = exp(p_.gamma_NaCa * phi);
   const T e_reverse = exp((p_.gamma_NaCa - 1) * phi);
@@ -303,6 +394,7 @@ TenTusscherPanfilov2006::Split<T> TenTusscherPanfilov2006::calcium_pump(const T&
 // I_NaK = P_NaK K_o/(K_o + K_mK) Na_i/(Na_i + K_mNa) / (1 + 0.1245 e^{-0.1 phi} + 0.0353 e^{-phi}).
 template <class T>
 T TenTusscherPanfilov2006::sodium_potassium_pump(const T& V, const T& Na_i) const {
+  if (table_) return p_.P_NaK * p_.K_o / (p_.K_o + p_.K_mK) * Na_i / (Na_i + p_.K_mNa) * table_->at(NaK, V);
   const T phi = V / RT_over_F_;
   return p_.P_NaK * p_.K_o / (p_.K_o + p_.K_mK) * Na_i / (Na_i + p_.K_mNa) /
          (1 + 0.1245 * exp(-0.1 * phi) + 0.0353 * exp(-phi));
@@ -469,6 +561,8 @@ template <class T>
       return without_loss(
           potassium_rate(potassium_currents(y), sodium_potassium_pump(y[SI::V], y[SI::Na_i]), stimulus));
     default: {  // a gate: Rush-Larsen form
+      if (const int column = table_ ? tabulated_gate(k) : -1; column >= 0)
+        return {table_->at(column, y[SI::V]), table_->at(column + 1, y[SI::V])};
       const GateKinetics<T> g = gate_kinetics(k, y[SI::V], y[SI::Ca_ss]);
       return {g.steady_state / g.time_constant, 1 / g.time_constant};
     }

@@ -30,6 +30,8 @@
 
 #include <array>
 #include <cstddef>
+#include <memory>
+#include <vector>
 #include <string_view>
 
 #include "libsph/reaction/reaction_model.hpp"
@@ -161,6 +163,14 @@ class TenTusscherPanfilov2006 {
 
   TenTusscherPanfilov2006() : TenTusscherPanfilov2006(Parameters{}) {}
   explicit TenTusscherPanfilov2006(Parameters parameters);
+
+  /// The same model with its functions of V alone tabulated every `step` mV over valid_voltage()
+  /// and interpolated linearly (the lookup tables of openCARP): the steady states and rates of the
+  /// eleven voltage gates, and the voltage factors of I_pK, I_NaK, I_NaCa and I_CaL. Used by
+  /// production_loss() and rbr_qss_step(); rates() (the CVODE reference) stays exact. step = 0: no
+  /// table. The error this costs is measured by the `cell` scene (docs/electrophysiology.md).
+  TenTusscherPanfilov2006 with_voltage_table(double step) const;
+  double voltage_table_step() const { return table_ ? table_->step : 0.0; }
   const Parameters& parameters() const { return p_; }
 
   /// The resting state used by Niederer et al. 2011 for the epicardial cell (the CellML initial
@@ -298,7 +308,29 @@ class TenTusscherPanfilov2006 {
   template <class T>
   T potassium_rate(const PotassiumCurrents<T>& I_K, const T& I_NaK, const T& stimulus) const;
 
+  // The tabulated functions of V (with_voltage_table): columns of one row per V node.
+  enum TableColumn : int {
+    gate_columns = 0,  ///< 2 per voltage gate, in the order of tabulated_gate(): x_inf / tau, 1 / tau
+    pK = 22,           ///< 1 / (1 + exp((25 - V) / 5.98))
+    NaK,               ///< 1 / (1 + 0.1245 exp(-0.1 phi) + 0.0353 exp(-phi))
+    NaCa_forward,      ///< exp(gamma phi) / (1 + K_sat exp((gamma - 1) phi))
+    NaCa_reverse,      ///< exp((gamma - 1) phi) / (1 + K_sat exp((gamma - 1) phi))
+    CaL,               ///< x / (exp(x) - 1), x = 2 (V - 15) F / (R T)
+    CaL_ss,            ///< x exp(x) / (exp(x) - 1)
+    n_columns
+  };
+  struct VoltageTable {
+    double v_min = 0, step = 0, inverse_step = 0, last_node = 0;
+    std::size_t rows = 0;
+    std::vector<double> values;  ///< rows x n_columns
+    double at(int column, double V) const;
+    Lanes at(int column, const Lanes& V) const;
+  };
+  /// The table column pair of gate k (its index among the voltage gates), or -1 (fCass, not a gate).
+  static int tabulated_gate(std::size_t k);
+
   Parameters p_;
+  std::shared_ptr<const VoltageTable> table_;  ///< shared by the copies of the model
   double RT_over_F_ = 0;          ///< [mV]
   double sqrt_K_o_factor_ = 1;    ///< sqrt(K_o / 5.4 mM)
   double current_to_flux_c_ = 0;  ///< C_m / (V_c F): [mM/ms] per [pA/pF] in the cytoplasm

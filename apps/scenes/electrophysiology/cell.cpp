@@ -49,6 +49,9 @@ class CellScene final : public Scene {
     p.add("smallest_time_step", p_.smallest_time_step, "ms", "first rung of the step ladder", sph::Range::positive());
     p.add("sample_interval", p_.sample_interval, "ms", "spacing of the samples where the voltage error is measured",
           sph::Range::positive());
+    p.add("lookup_table", p_.lookup_table, "mV",
+          "ten Tusscher-Panfilov also by rbr_qss with the functions of V in lookup tables of this step (rbr_qss_table); 0: not",
+          sph::Range::closed(0, 1));
     p.add("cvode_tolerance", p_.cvode_tolerance, "-", "relative tolerance of the CVODE reference (absolute: 1e-3 of it)",
           {1e-14, 1e-4, false, false});
   }
@@ -105,26 +108,40 @@ class CellScene final : public Scene {
     results["cvode_wall_s"] = cvode_seconds;
     results["forward_euler_step_limit_ms"] = euler_limit;
 
-    // The ladder: every scheme at every step.
+    // The ladder: every scheme at every step, and for a model with lookup tables rbr_qss with them.
+    struct Variant {
+      std::string key;
+      sph::ReactionScheme scheme;
+      bool table;
+    };
+    std::vector<Variant> variants;
+    for (auto s : schemes) variants.push_back({std::string(sph::to_string(s)), s, false});
+    M tabulated = model;
+    if constexpr (requires { model.with_voltage_table(0.1); }) {
+      if (p_.lookup_table > 0) {
+        tabulated = model.with_voltage_table(p_.lookup_table);
+        variants.push_back({"rbr_qss_table", sph::ReactionScheme::rbr_qss, true});
+      }
+    }
     std::ostringstream csv;
     csv << "time_step_ms";
-    for (auto s : schemes)
-      for (const char* column : {"_wall_s", "_rms_mV", "_apd90_ms", "_apd90_error_ms"}) csv << ',' << sph::to_string(s) << column;
+    for (const auto& v : variants)
+      for (const char* column : {"_wall_s", "_rms_mV", "_apd90_ms", "_apd90_error_ms"}) csv << ',' << v.key << column;
     csv << '\n' << std::setprecision(8);
     std::map<std::string, double> largest_stable, largest_within_5pct;
     for (long rung = 0; rung < p_.resolution; ++rung) {
       const double dt = p_.smallest_time_step * std::pow(2.0, static_cast<double>(rung));
       csv << dt;
       results["time_steps_ms"].push_back(dt);
-      for (auto s : schemes) {
+      for (const auto& v : variants) {
         Trace trace;
         const auto scheme_start = std::chrono::steady_clock::now();
-        const bool stable = sph::simulate_cell(model, s, dt, stimulus, p_.end_time, [&](double t, const auto& y) {
+        const bool stable = sph::simulate_cell(v.table ? tabulated : model, v.scheme, dt, stimulus, p_.end_time, [&](double t, const auto& y) {
           trace.t.push_back(t);
           trace.V.push_back(y[0]);
         });
         const double wall = seconds_since(scheme_start);
-        const std::string key(sph::to_string(s));
+        const std::string& key = v.key;
         results[key]["stable"].push_back(stable);
         if (!stable) {
           csv << ",nan,nan,nan,nan";
@@ -148,8 +165,8 @@ class CellScene final : public Scene {
       }
       csv << '\n';
     }
-    for (auto s : schemes) {
-      const std::string key(sph::to_string(s));
+    for (const auto& v : variants) {
+      const std::string& key = v.key;
       results[key]["largest_stable_time_step_ms"] = largest_stable.count(key) ? largest_stable[key] : 0.0;
       results[key]["largest_time_step_within_5pct_apd90_ms"] =
           largest_within_5pct.count(key) ? largest_within_5pct[key] : 0.0;
@@ -158,10 +175,10 @@ class CellScene final : public Scene {
     sph::write_file_atomically(ctx.output_dir / file, csv.str());
     CsvPlot plot{file, "cell_" + name + ".png", name + ": error against wall time (CVODE reference)", "wall time [s]",
                     "RMS voltage error [mV], APD90 error [ms]", {}};
-    for (std::size_t s = 0; s < schemes.size(); ++s) {
+    for (std::size_t s = 0; s < variants.size(); ++s) {
       const int first = 2 + 4 * static_cast<int>(s);
-      plot.series.push_back({first, first + 1, std::string(sph::to_string(schemes[s])) + " RMS V", ""});
-      plot.series.push_back({first, first + 3, std::string(sph::to_string(schemes[s])) + " APD90", ""});
+      plot.series.push_back({first, first + 1, variants[s].key + " RMS V", ""});
+      plot.series.push_back({first, first + 3, variants[s].key + " APD90", ""});
     }
     plot_csv(ctx.output_dir, plot);
   }

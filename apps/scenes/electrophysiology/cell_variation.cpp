@@ -34,6 +34,10 @@ void declare_parameters(sph::Parameters& p, CellVariationParameters& c, bool wal
              "CSV with a header of channels and one row of conductance factors per population member");
   p.add("population_member", c.population_member, "1", "row of population_file to use (0: the first)",
         sph::Range::closed(0, 1e9));
+  p.add("reaction_lookup_table", c.lookup_table, "mV",
+        "ten Tusscher-Panfilov's functions of V (gate rates, pump and exchanger factors) in lookup tables of this step, "
+        "interpolated linearly (openCARP's tables; their error: the `cell` scene's rbr_qss_table row); 0: computed exactly",
+        sph::Range::closed(0, 1));
 }
 
 namespace {
@@ -66,6 +70,7 @@ cardio::CellHeterogeneity cell_heterogeneity(const CellVariationParameters& c) {
   h.endocardial_layer = c.endocardial_layer;
   h.mid_layer = c.mid_layer;
   h.apicobasal_gks_ratio = c.apicobasal_gks_ratio;
+  h.lookup_table = c.lookup_table;
   h.uniform_type = c.cell_type == "endocardial"      ? TP06::CellType::endocardial
                    : c.cell_type == "mid_myocardial" ? TP06::CellType::mid_myocardial
                                                      : TP06::CellType::epicardial;

@@ -28,6 +28,7 @@ struct CellVariationParameters {
   double drug_concentration = 0;
   std::filesystem::path population_file;
   long population_member = 0;
+  double lookup_table = 0;  ///< [mV] reaction_lookup_table: the cells' functions of V tabulated (0: exact)
 };
 
 /// Declares the parameters; `wall`: the scene has transmural and apico-basal coordinates and LV/RV

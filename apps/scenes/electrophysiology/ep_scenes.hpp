@@ -23,6 +23,9 @@ struct CellParameters {
   double smallest_time_step = 0.01;  ///< [ms]
   double sample_interval = 0.5;   ///< where the voltage error is measured [ms]
   double cvode_tolerance = 1e-8;  ///< relative tolerance of the reference (absolute: 1e-3 of it)
+  /// [mV] ten Tusscher-Panfilov also by rbr_qss with its functions of V in lookup tables of this
+  /// step (the row rbr_qss_table); 0: not
+  double lookup_table = 0.05;
 };
 
 /// `depolarization`: 2D Aliev-Panfilov excitation from a corner bump (dimensionless units).
@@ -58,6 +61,7 @@ struct NiedererSlabParameters {
   double stimulus_current = 50;     ///< [uA/mm^3] (50,000 uA/cm^3)
   double stimulus_duration = 2;     ///< [ms]
   double stimulus_size = 1.5;       ///< side of the stimulated corner cube [mm]
+  double lookup_table = 0;          ///< [mV] the cells' functions of V tabulated (0: exact)
   EpSceneNumerics numerics{{1.3, "wendland_c2", 0}, {sph::ReactionScheme::rbr_qss, sph::Real(0.05)}, 90};
 };
 

@@ -42,6 +42,9 @@ class NiedererSlabScene final : public Scene {
     p.add("stimulus_current", p_.stimulus_current, "uA/mm^3", "stimulus current density (50 = 50,000 uA/cm^3)",
           sph::Range::non_negative());
     p.add("stimulus_duration", p_.stimulus_duration, "ms", "stimulus duration", sph::Range::positive());
+    p.add("reaction_lookup_table", p_.lookup_table, "mV",
+          "the cells' functions of V in lookup tables of this step, interpolated linearly; 0: computed exactly",
+          sph::Range::closed(0, 1));
     p.add("stimulus_size", p_.stimulus_size, "mm", "side of the stimulated corner cube", sph::Range::positive());
     declare_parameters(p, p_.pacing);
     declare_ep_numerics(p, p_.numerics, "ms");
@@ -65,7 +68,7 @@ class NiedererSlabScene final : public Scene {
     // Monodomain conductivity: harmonic mean sigma_i sigma_e / (sigma_i + sigma_e), then D = sigma / (chi C_m).
     const auto [D_l, D_t] = p_.tissue.diffusivities();
     cardio::Monodomain<3>::Settings settings;
-    settings.cell_model = sph::TenTusscherPanfilov2006{};
+    settings.cell_model = sph::TenTusscherPanfilov2006{}.with_voltage_table(p_.lookup_table);
     settings.diffusion_tensor = {sph::transversely_isotropic_tensor<3>(D_l, D_t, Vec3(1, 0, 0))};
     settings.activation_threshold = 0;
     // The stimulated particles are those whose centre lies inside the cube (the whole cube for
