@@ -355,8 +355,8 @@ TenTusscherPanfilov2006::Split<T> TenTusscherPanfilov2006::l_type_calcium(const 
   const T gates = p_.g_CaL * y[SI::d] * y[SI::f] * y[SI::f2] * y[SI::fCass] * 2 * p_.faraday_constant;
   if (table_) {
     const T scale = gates * table_->at(CaL, y[SI::V]);
-    return {gates * table_->at(CaL_ss, y[SI::V]) * 0.25 * y[SI::Ca_ss] - scale * p_.Ca_o,
-            gates * table_->at(CaL_ss, y[SI::V]) * 0.25};
+    const T ca_ss_coefficient = gates * table_->at(CaL_ss, y[SI::V]) * 0.25;
+    return {ca_ss_coefficient * y[SI::Ca_ss] - scale * p_.Ca_o, ca_ss_coefficient};
   }
   const T x = 2 * (y[SI::V] - 15) / RT_over_F_;
   const T scale = gates * x_over_expm1(x);
