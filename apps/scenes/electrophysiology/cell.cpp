@@ -49,7 +49,7 @@ class CellScene final : public Scene {
     p.add("smallest_time_step", p_.smallest_time_step, "ms", "first rung of the step ladder", sph::Range::positive());
     p.add("sample_interval", p_.sample_interval, "ms", "spacing of the samples where the voltage error is measured",
           sph::Range::positive());
-    p.add("lookup_table", p_.lookup_table, "mV",
+    p.add("reaction_lookup_table", p_.lookup_table, "mV",
           "ten Tusscher-Panfilov also by rbr_qss with the functions of V in lookup tables of this step (rbr_qss_table); 0: not",
           sph::Range::closed(0, 1));
     p.add("cvode_tolerance", p_.cvode_tolerance, "-", "relative tolerance of the CVODE reference (absolute: 1e-3 of it)",
