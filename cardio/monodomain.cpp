@@ -15,6 +15,13 @@ void declare_parameters(sph::Parameters& p, MonodomainNumerics& n, const std::st
              "explicit Euler");
   p.add("ep_time_step", n.time_step, time_unit, "splitting step of the monodomain (reaction half step, diffusion, reaction half step)",
         sph::Range::positive());
+  p.add("reaction_quiescent_step", n.quiescent_step, time_unit,
+        "longest reaction step of a quiescent block of cells (one whose potential changes slower than "
+        "reaction_quiescent_rate; e.g. in diastole); 0: every cell at every half step",
+        sph::Range::non_negative());
+  p.add("reaction_quiescent_rate", n.quiescent_rate, "mV/" + time_unit,
+        "|dV/dt| below which a block of cells is quiescent (and a drift of rate x step that wakes it)",
+        sph::Range::positive());
   sph::declare_parameters(p, n.diffusion);
 }
 
@@ -46,7 +53,8 @@ typename Monodomain<Dim>::Reaction Monodomain<Dim>::make_reaction(sph::ParticleS
         }
         return sph::ReactionSystem<Dim, M>(particles, std::move(models),
                                            variants ? settings.cell_variant : std::vector<std::uint16_t>{},
-                                           {settings.numerics.scheme, settings.write_states});
+                                           {settings.numerics.scheme, settings.write_states, settings.numerics.quiescent_step,
+                                            settings.numerics.quiescent_rate});
       },
       variants ? settings.cell_variants.front() : settings.cell_model);
 }

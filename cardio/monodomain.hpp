@@ -48,6 +48,11 @@ struct MonodomainNumerics {
   /// The diffusion sub-steps: forward Euler at 0.9 of the stability limit by default.
   sph::DiffusionNumerics diffusion{sph::DiffusionCorrection::moment, sph::DiffusionIntegrator::forward_euler, Real(0.9),
                                    false};
+  /// Quiescent cells (libsph/reaction/reaction_system.hpp): blocks of cells whose potential changes
+  /// slower than quiescent_rate [mV/ms] take one reaction step per quiescent_step [ms] at most;
+  /// 0: every cell at every half step.
+  double quiescent_step = 0;
+  double quiescent_rate = 0.1;
 };
 
 /// Declares reaction_scheme, ep_time_step [time_unit] and the diffusion parameters
@@ -128,6 +133,12 @@ class Monodomain {
   std::size_t diffusion_substeps() const { return timers_.calls("diffusion"); }
   /// Splitting steps taken (two reaction half steps each).
   std::size_t steps() const { return timers_.calls("reaction") / 2; }
+  /// The share of the cells' reaction half steps taken (1 unless quiescent cells skip steps).
+  double reaction_steps_taken() const {
+    const auto blocks = std::visit([](const auto& r) { return r.n_blocks(); }, reaction_);
+    const std::size_t possible = blocks * timers_.calls("reaction");
+    return possible ? double(std::visit([](const auto& r) { return r.block_steps(); }, reaction_)) / double(possible) : 1.0;
+  }
   const Settings& settings() const { return settings_; }
   const sph::ParticleSet<Dim>& particles() const { return particles_; }
   /// The stimulus regions, which may be changed between steps (e.g. a pulse timed by the state).
@@ -142,6 +153,7 @@ class Monodomain {
     if (archive.loading()) set_diffusion_tensor(std::move(tensor));
     archive.io("stimulus", stimulus_);
     archive.io("previous_potential", previous_potential_);
+    std::visit([&](auto& r) { r.checkpoint(archive); }, reaction_);
     timers_.checkpoint(archive);
   }
 

@@ -7,9 +7,22 @@
 // SIMD lanes, lanes.hpp, takes rbr_qss steps eight particles at a time), then checks the
 // state: a non-finite value or a potential outside the model's valid range stops the run with a
 // NumericalFailure naming the particle, its position, the time and the value.
+//
+// Quiescent cells (Settings::quiescent_step > 0) take longer steps, in the spirit of the per-cell
+// adaptive steps of Qu & Garfinkel 1999 (IEEE Trans. Biomed. Eng. 46:1166): the cells go in fixed
+// blocks of lane_count consecutive particles (per cell group), and a block whose last reaction step
+// changed no potential faster than quiescent_rate skips its steps, keeping the skipped time, until
+//   - the skipped time would exceed quiescent_step, or
+//   - a potential of the block has moved by more than quiescent_rate x quiescent_step since the
+//     block's last step (diffusion bringing a wavefront), or a stimulus acts on the block;
+// it then takes one step over the skipped time and the current one (a stimulus averaged over that
+// whole interval). Diastole, about 60 % of a beat, costs one reaction step per quiescent_step instead
+// of one per splitting half step. The state of a skipping block lags by at most quiescent_step.
+// The decisions depend on the block alone, so that results do not depend on the thread count.
 
 #include <algorithm>
 #include <array>
+#include <numeric>
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
@@ -21,6 +34,7 @@
 #include "libsph/core/numerical_failure.hpp"
 #include "libsph/core/parallel.hpp"
 #include "libsph/core/particles.hpp"
+#include "libsph/core/state_archive.hpp"
 #include "libsph/reaction/cell_integrators.hpp"
 #include "libsph/reaction/reaction_model.hpp"
 
@@ -33,6 +47,8 @@ class ReactionSystem {
   struct Settings {
     ReactionScheme scheme = ReactionScheme::rbr_qss;
     bool write_states = false;  ///< write the state variables other than the potential to output
+    double quiescent_step = 0;   ///< longest step of a quiescent block [ms]; 0: every cell at every step
+    double quiescent_rate = 0.1;   ///< |dV/dt| below which a block is quiescent [voltage unit / ms]
   };
 
   /// Registers the state fields and sets every particle to the model's resting state.
@@ -56,23 +72,34 @@ class ReactionSystem {
     for (std::size_t k = 0; k < n_states; ++k)
       fields_[k] = particles_.template register_field<Real>(std::string(M::state_names[k]), static_cast<Real>(rest[k]),
                                                             k == 0 || settings_.write_states);
-    if (group_.empty() || models_.size() == 1) {
-      group_.clear();
-      return;
+    if (!(settings_.quiescent_step >= 0 && std::isfinite(settings_.quiescent_step)) ||
+        !(settings_.quiescent_rate > 0 && std::isfinite(settings_.quiescent_rate)))
+      throw std::invalid_argument("reaction on '" + particles_.name() + "': the quiescent step must be >= 0 and the quiescent rate > 0");
+    if (models_.size() == 1) group_.clear();
+    if (!group_.empty()) {
+      // Every particle at its own model's resting state.
+      std::vector<typename M::State> rests;
+      for (const auto& m : models_) rests.push_back(m.initial_state());
+      for (std::size_t k = 0; k < n_states; ++k) {
+        auto column = particles_.field(fields_[k]);
+        for (std::size_t i = 0; i < n; ++i) column[i] = static_cast<Real>(rests[group_[i]][k]);
+      }
     }
-    // Every particle at its own model's resting state; the lane blocks run within each group, in
-    // the order of the particle indices (fixed, whatever the thread count).
-    std::vector<typename M::State> rests;
-    for (const auto& m : models_) rests.push_back(m.initial_state());
-    for (std::size_t k = 0; k < n_states; ++k) {
-      auto column = particles_.field(fields_[k]);
-      for (std::size_t i = 0; i < n; ++i) column[i] = static_cast<Real>(rests[group_[i]][k]);
-    }
+    // The blocks run within each group, in the order of the particle indices (fixed, whatever the
+    // thread count).
     members_.resize(models_.size());
-    for (std::size_t i = 0; i < n; ++i) members_[group_[i]].push_back(i);
+    for (std::size_t i = 0; i < n; ++i) members_[group_.empty() ? 0 : group_[i]].push_back(i);
     for (std::size_t g = 0; g < members_.size(); ++g)
       for (std::size_t first = 0; first < members_[g].size(); first += lane_count)
         blocks_.push_back({g, first, std::min<std::size_t>(lane_count, members_[g].size() - first)});
+    block_steps_.assign(blocks_.size(), 0);
+    if (settings_.quiescent_step > 0) {
+      skipped_.assign(blocks_.size(), 0);
+      quiescent_.assign(blocks_.size(), 0);
+      last_potential_.assign(n, static_cast<Real>(rest[0]));
+      const auto V = particles_.field(fields_[0]);
+      std::copy(V.begin(), V.end(), last_potential_.begin());
+    }
   }
 
   /// The model of group 0 (the only one of a homogeneous tissue).
@@ -86,60 +113,88 @@ class ReactionSystem {
   void advance(Real time, Real dt, std::span<const Real> stimulus = {}) {
     std::array<std::span<Real>, n_states> columns;
     for (std::size_t k = 0; k < n_states; ++k) columns[k] = particles_.field(fields_[k]);
-    const std::size_t n = particles_.n_particles();
-    if constexpr (HasLanesRbrQssStep<M>) {
-      if (settings_.scheme == ReactionScheme::rbr_qss) {
-        advance_in_lanes(columns, stimulus, double(dt));
-        check(columns, time + dt);
-        return;
-      }
-    }
-    parallel_for(n, [&](std::size_t i) {
-      typename M::State y;
-      for (std::size_t k = 0; k < n_states; ++k) y[k] = columns[k][i];
-      advance_cell(models_[group_.empty() ? 0 : group_[i]], y, stimulus.empty() ? 0.0 : double(stimulus[i]), double(dt),
-                   settings_.scheme);
-      for (std::size_t k = 0; k < n_states; ++k) columns[k][i] = static_cast<Real>(y[k]);
+    parallel_for(blocks_.size(), [&](std::size_t b) {
+      if (settings_.quiescent_step > 0) advance_or_skip(b, columns, stimulus, double(dt));
+      else advance_block(b, columns, stimulus, double(dt), 1.0);
     });
     check(columns, time + dt);
   }
 
+  /// Blocks of at most lane_count cells (each cell group in blocks of its own).
+  std::size_t n_blocks() const { return blocks_.size(); }
+  /// Reaction steps taken, counted in blocks of lane_count cells (a skipped block takes none).
+  std::size_t block_steps() const { return std::accumulate(block_steps_.begin(), block_steps_.end(), std::size_t(0)); }
+  /// Saves or loads the skipped time, the quiescence and the last potentials of the blocks
+  /// (checkpoints; nothing when every cell steps every time).
+  void checkpoint(StateArchive& archive) {
+    archive.io("reaction_skipped_time", skipped_);
+    archive.io("reaction_quiescent", quiescent_);
+    archive.io("reaction_last_potential", last_potential_);
+    archive.io("reaction_block_steps", block_steps_);
+  }
+
  private:
-  /// The cells in blocks of lane_count consecutive particles, the blocks fixed by the particle index
-  /// (so that every thread count gives the same blocks); the last block is filled up with copies of
-  /// its last particle, whose results are dropped.
-  void advance_in_lanes(const std::array<std::span<Real>, n_states>& columns, std::span<const Real> stimulus,
-                        double dt) const {
-    if (!group_.empty()) {
-      parallel_for(blocks_.size(), [&](std::size_t b) {
-        const Block& block = blocks_[b];
-        const std::size_t* index = members_[block.group].data() + block.first;
-        advance_block(columns, stimulus, dt, models_[block.group], [&](std::size_t l) { return index[l]; }, block.count);
-      });
+  std::size_t particle(const std::size_t b, std::size_t l) const {
+    return members_[blocks_[b].group][blocks_[b].first + std::min(l, blocks_[b].count - 1)];
+  }
+  /// A quiescent block skips the step (module comment); otherwise it steps over its skipped time
+  /// and dt, and records whether it is quiescent now.
+  void advance_or_skip(std::size_t b, const std::array<std::span<Real>, n_states>& columns, std::span<const Real> stimulus,
+                       double dt) {
+    const Block& block = blocks_[b];
+    const double step = settings_.quiescent_step, rate = settings_.quiescent_rate;
+    bool disturbed = false;
+    for (std::size_t l = 0; l < block.count && !disturbed; ++l) {
+      const std::size_t i = particle(b, l);
+      disturbed = (!stimulus.empty() && stimulus[i] != 0) || std::abs(columns[0][i] - last_potential_[i]) > rate * step;
+    }
+    if (quiescent_[b] && !disturbed && skipped_[b] + dt <= step * (1 + 1e-9)) {
+      skipped_[b] += dt;
       return;
     }
-    const std::size_t n = particles_.n_particles();
-    const std::size_t blocks = (n + lane_count - 1) / lane_count;
-    parallel_for(blocks, [&](std::size_t b) {
-      const std::size_t first = b * lane_count;
-      advance_block(columns, stimulus, dt, models_[0], [&](std::size_t l) { return first + l; },
-                    std::min<std::size_t>(lane_count, n - first));
-    });
-  }
-  /// One block of `count` cells, the l-th at particle index(l); the lanes past count repeat the last.
-  template <class Index>
-  static void advance_block(const std::array<std::span<Real>, n_states>& columns, std::span<const Real> stimulus, double dt,
-                            const M& model, Index&& index, std::size_t count) {
-    std::array<Lanes, n_states> y;
-    Lanes s = Lanes::Zero();
-    for (int l = 0; l < lane_count; ++l) {
-      const std::size_t i = index(std::min<std::size_t>(static_cast<std::size_t>(l), count - 1));
-      for (std::size_t k = 0; k < n_states; ++k) y[k][l] = columns[k][i];
-      if (!stimulus.empty()) s[l] = stimulus[i];
+    const double h = skipped_[b] + dt;
+    std::array<Real, lane_count> before;
+    for (std::size_t l = 0; l < block.count; ++l) before[l] = columns[0][particle(b, l)];
+    advance_block(b, columns, stimulus, h, dt / h);
+    skipped_[b] = 0;
+    double fastest = 0;
+    for (std::size_t l = 0; l < block.count; ++l) {
+      const std::size_t i = particle(b, l);
+      fastest = std::max(fastest, std::abs(double(columns[0][i]) - double(before[l])) / h);
+      last_potential_[i] = columns[0][i];
     }
-    rbr_qss_step_in_lanes(model, y, s, dt);
-    for (std::size_t l = 0; l < count; ++l)
-      for (std::size_t k = 0; k < n_states; ++k) columns[k][index(l)] = static_cast<Real>(y[k][static_cast<int>(l)]);
+    quiescent_[b] = fastest < rate;
+  }
+  /// One step of dt of block b: in SIMD lanes for rbr_qss of a model that has them (the lanes past
+  /// the block's count repeat its last cell, whose results are dropped), cell by cell otherwise.
+  /// The stimulus is scaled by stimulus_scale (the share of the step it was averaged over).
+  void advance_block(std::size_t b, const std::array<std::span<Real>, n_states>& columns, std::span<const Real> stimulus,
+                     double dt, double stimulus_scale) {
+    ++block_steps_[b];
+    const Block& block = blocks_[b];
+    const M& model = models_[block.group];
+    if constexpr (HasLanesRbrQssStep<M>) {
+      if (settings_.scheme == ReactionScheme::rbr_qss) {
+        std::array<Lanes, n_states> y;
+        Lanes s = Lanes::Zero();
+        for (int l = 0; l < lane_count; ++l) {
+          const std::size_t i = particle(b, static_cast<std::size_t>(l));
+          for (std::size_t k = 0; k < n_states; ++k) y[k][l] = columns[k][i];
+          if (!stimulus.empty()) s[l] = stimulus_scale * stimulus[i];
+        }
+        rbr_qss_step_in_lanes(model, y, s, dt);
+        for (std::size_t l = 0; l < block.count; ++l)
+          for (std::size_t k = 0; k < n_states; ++k) columns[k][particle(b, l)] = static_cast<Real>(y[k][static_cast<int>(l)]);
+        return;
+      }
+    }
+    for (std::size_t l = 0; l < block.count; ++l) {
+      const std::size_t i = particle(b, l);
+      typename M::State y;
+      for (std::size_t k = 0; k < n_states; ++k) y[k] = columns[k][i];
+      advance_cell(model, y, stimulus.empty() ? 0.0 : stimulus_scale * double(stimulus[i]), dt, settings_.scheme);
+      for (std::size_t k = 0; k < n_states; ++k) columns[k][i] = static_cast<Real>(y[k]);
+    }
   }
 
   void check(const std::array<std::span<Real>, n_states>& columns, Real time) const {
@@ -173,6 +228,12 @@ class ReactionSystem {
   std::vector<std::vector<std::size_t>> members_;  ///< particles of each group, in index order
   std::vector<Block> blocks_;
   Settings settings_;
+  // Quiescent blocks (settings_.quiescent_step > 0): per block the time skipped since its last
+  // step [ms] and whether that step found it quiescent; per particle the potential after it.
+  std::vector<double> skipped_;
+  std::vector<std::uint8_t> quiescent_;
+  std::vector<Real> last_potential_;
+  std::vector<std::size_t> block_steps_;  ///< steps taken by each block
   std::array<FieldHandle<Real>, n_states> fields_;
 };
 

@@ -184,6 +184,7 @@ void HeartScene::run(RunContext& ctx) {
   r.results["mechanics_substeps"] = mechanics_substeps;
   r.results["conduction_updates"] = timers.calls("conduction_update");
   r.results["diffusion_substeps"] = monodomain.diffusion_substeps();
+  r.results["reaction_steps_taken"] = monodomain.reaction_steps_taken();
   r.results["ep_steps"] = monodomain.steps();
   if (mechanics_substeps > 0)
     r.results["mechanics_microseconds_per_particle_step"] =

@@ -74,6 +74,9 @@ HeartParameters heart_defaults() {
   // The cells' functions of V from lookup tables of 0.05 mV: the beat within 1e-4 ms of APD90,
   // 14 % less time for the cells (docs/electrophysiology.md, "Lookup tables").
   p.cells.lookup_table = 0.05;
+  // Quiescent cells (in diastole) step every 1 ms instead of every 0.05 ms
+  // (docs/electrophysiology.md, "Quiescent cells").
+  p.monodomain.quiescent_step = 1;
   p.numerics.solid.hourglass_control = sph::HourglassControl::energy;
   p.numerics.solid.artificial_viscosity = Real(0.25);
   p.numerics.solid.cfl = Real(0.45);

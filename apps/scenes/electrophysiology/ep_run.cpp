@@ -79,6 +79,7 @@ EpTraces run_monodomain(cardio::Monodomain<Dim>& monodomain, sph::ParticleSet<Di
   report.results["reaction_seconds"] = timing.reaction;
   report.results["diffusion_seconds"] = timing.diffusion;
   report.results["diffusion_substeps"] = monodomain.diffusion_substeps();
+  report.results["reaction_steps_taken"] = monodomain.reaction_steps_taken();
   if (monodomain.maps()) report.results["maps"] = ep_map_summary(monodomain);
   if (run.time_loop_seconds() > 0 && report.steps > 0)
     report.results["particle_steps_per_second"] = double(report.steps) * double(body.n_particles()) / run.time_loop_seconds();
