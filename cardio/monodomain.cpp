@@ -19,7 +19,7 @@ void declare_parameters(sph::Parameters& p, MonodomainNumerics& n, const std::st
         "longest reaction step of a quiescent block of cells (one whose potential changes slower than "
         "reaction_quiescent_rate; e.g. in diastole); 0: every cell at every half step",
         sph::Range::non_negative());
-  p.add("reaction_quiescent_rate", n.quiescent_rate, "mV/" + time_unit,
+  p.add("reaction_quiescent_rate", n.quiescent_rate, time_unit == "-" ? "-" : "mV/" + time_unit,
         "|dV/dt| below which a block of cells is quiescent (and a drift of rate x step that wakes it)",
         sph::Range::positive());
   sph::declare_parameters(p, n.diffusion);

@@ -121,6 +121,18 @@ ElasticSolid<Dim>::ElasticSolid(ParticleSet<Dim>& particles, const InnerRelation
     });
   }
   energy_hourglass_ = settings_.numerics.hourglass_control == HourglassControl::energy && hourglass_factor_ > 0;
+  if (energy_hourglass_) {
+    const auto& V = particles_.volume;
+    hourglass_moment_.resize(n);
+    parallel_for(n, [&](std::size_t i) {
+      Mat<Dim> M = Mat<Dim>::Zero();
+      for (const auto [k, j] : rel.row(i)) {
+        const Vec<Dim> X_ij = pair_offset_[k].template cast<Real>();
+        M.noalias() += (V[j] * Real(pair_gradient_[k].hourglass_weight)) * X_ij * X_ij.transpose();
+      }
+      hourglass_moment_[i] = M;
+    });
+  }
   if (settings_.numerics.quadrature == Quadrature::gauss && settings_.numerics.deformation_gradient != DeformationGradient::quadratic)
     throw std::invalid_argument(body + ": quadrature 'gauss' needs deformation_gradient 'quadratic' (the gradient of F)");
   if (settings_.numerics.deformation_gradient == DeformationGradient::quadratic) build_quadratic_reconstruction();
@@ -383,20 +395,30 @@ void ElasticSolid<Dim>::compute_deformation_gradient() {
 
 template <int Dim>
 Mat<Dim> ElasticSolid<Dim>::deformation_gradient_of(std::size_t i, std::span<const Vec<Dim>> x, std::span<const Real> V,
-                                                    std::span<const Mat<Dim>> B) const {
+                                                    std::span<const Mat<Dim>> B, Mat<Dim>* hourglass_sum) const {
   // F_i = - sum_j V_j x_ij (x) (B_i grad0 W_ij) = - (sum_j V_j x_ij (x) grad0 W_ij) B_i^T
   const auto& rel = relation_;
   const Vec<Dim> x_i = x[i];
-  Mat<Dim> moment = Mat<Dim>::Zero();
+  Mat<Dim> moment = Mat<Dim>::Zero(), S = Mat<Dim>::Zero();
+  const auto add_hourglass = [&](std::size_t k, std::size_t j) {
+    if (hourglass_sum)
+      S.noalias() += (V[j] * Real(pair_gradient_[k].hourglass_weight)) * (x_i - x[j]) *
+                     pair_offset_[k].template cast<Real>().transpose();
+  };
   if (!pair_weights_.empty()) {  // quadratic: F_i = sum_j (x_j - x_i) (x) a_ij
-    for (const auto [k, j] : rel.row(i))
+    for (const auto [k, j] : rel.row(i)) {
       moment.noalias() += (x[j] - x_i) * pair_weights_[k].a.transpose().template cast<Real>();
+      add_hourglass(k, j);
+    }
+    if (hourglass_sum) *hourglass_sum = S;
     return moment;
   }
   for (const auto [k, j] : rel.row(i)) {
     const Vec<Dim> w = V[j] * pair_gradient_[k].vector().template cast<Real>();
     moment.noalias() += (x_i - x[j]) * w.transpose();
+    add_hourglass(k, j);
   }
+  if (hourglass_sum) *hourglass_sum = S;
   return -moment * B[i].transpose();
 }
 
@@ -431,20 +453,6 @@ Real ElasticSolid<Dim>::cell_energy(std::size_t i, const Law& law, const Mat<Dim
 }
 
 template <int Dim>
-Mat<Dim> ElasticSolid<Dim>::hourglass_stress_of(std::size_t i, const Mat<Dim>& F_i, std::span<const Vec<Dim>> x,
-                                                std::span<const Real> V) const {
-  // H_i = sum_j V_j W_ij / r0^2 e_ij (x) X_ij, e_ij = F_i X_ij - x_ij: the F-part of the derivative of
-  // the hourglass energy acts as a stress (docs/solid.md).
-  const auto& rel = relation_;
-  Mat<Dim> H = Mat<Dim>::Zero();
-  for (const auto [k, j] : rel.row(i)) {
-    const Vec<Dim> X_ij = pair_offset_[k].template cast<Real>();
-    H.noalias() += (V[j] * Real(pair_gradient_[k].hourglass_weight)) * (F_i * X_ij - (x[i] - x[j])) * X_ij.transpose();
-  }
-  return H;
-}
-
-template <int Dim>
 std::size_t ElasticSolid<Dim>::compute_deformation_and_stress() {
   // One pass over the particles: F_i from its pair sum, then, if F_i is valid, P_i B0_i from the
   // law (only particle i's stress needs F_i). Returns the first particle with an invalid F (or n).
@@ -470,7 +478,8 @@ std::size_t ElasticSolid<Dim>::compute_deformation_and_stress() {
                                              : std::span<const Real>();
         const bool non_negative = settings_.active_tension_non_negative;
         return first_index_where(n, [&](std::size_t i) {
-          const Mat<Dim> Fi = deformation_gradient_of(i, x, V, B);
+          Mat<Dim> S;  // with energy-based hourglass control, H_i = F_i M_i - S_i (docs/solid.md)
+          const Mat<Dim> Fi = deformation_gradient_of(i, x, V, B, energy_hourglass_ ? &S : nullptr);
           F[i] = Fi;
           const bool rigid = !rigid_.empty() && rigid_[i];  // in a clamp by reflection: F is a mirror image
           const Real J = Fi.determinant();
@@ -519,7 +528,7 @@ std::size_t ElasticSolid<Dim>::compute_deformation_and_stress() {
           } else if (!rigid) {
             P = stress_at(Fi);  // (a clamp by reflection stores no strain energy)
           }
-          if (energy_hourglass_) P.noalias() += hourglass_factor_ * hourglass_stress_of(i, Fi, x, V);
+          if (energy_hourglass_) P.noalias() += hourglass_factor_ * (Fi * hourglass_moment_[i] - S);
           PB[i].noalias() = P * B[i];
           return false;
         });

@@ -303,10 +303,10 @@ class ElasticSolid {
 
   void check_indices(const std::vector<Index>& particles, const char* what) const;
   void compute_deformation_gradient();
+  /// F_i; with hourglass_sum, also S_i = sum_j V_j W_ij / r0^2 x_ij (x) X_ij in the same pass over
+  /// the pairs, so that H_i = F_i M_i - S_i (hourglass_moment_) needs no pass of its own.
   Mat<Dim> deformation_gradient_of(std::size_t i, std::span<const Vec<Dim>> x, std::span<const Real> V,
-                                   std::span<const Mat<Dim>> B) const;
-  /// H_i of the hourglass energy (its F-part acts as the stress alpha E / 2 H_i).
-  Mat<Dim> hourglass_stress_of(std::size_t i, const Mat<Dim>& F_i, std::span<const Vec<Dim>> x, std::span<const Real> V) const;
+                                   std::span<const Mat<Dim>> B, Mat<Dim>* hourglass_sum = nullptr) const;
   /// F and the stress P B0 of every particle in one pass; the first particle with an invalid F, or n.
   std::size_t compute_deformation_and_stress();
   std::span<const Vec<Dim>> anisotropic_field(FieldHandle<Vec<Dim>> handle) const {
@@ -342,6 +342,10 @@ class ElasticSolid {
   Settings settings_;
   std::vector<PairGradient> pair_gradient_;
   std::vector<PairVector> pair_offset_;
+  /// Energy-based hourglass control: M_i = sum_j V_j W_ij / r0^2 X_ij (x) X_ij of the reference
+  /// configuration, the part of H_i = sum_j V_j W_ij / r0^2 (F_i X_ij - x_ij) (x) X_ij = F_i M_i - S_i
+  /// that does not change.
+  std::vector<Mat<Dim>> hourglass_moment_;
   // The quadratic reconstruction (deformation_gradient = "quadratic"): F_i = sum_j (x_j - x_i) (x) a_ij
   // and the force of the energy sum_i V_i W(F_i), f_i = V_i P_i sum_j a_ij - sum_j V_j P_j a_ji, with
   // a_ij and a_ji stored per pair in the relation's order (single precision, the same numbers in F
