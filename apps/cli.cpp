@@ -1,3 +1,4 @@
+#include "libsph/core/communicator.hpp"
 #include "apps/cli.hpp"
 
 #include <iostream>
@@ -82,6 +83,8 @@ int run_cli(int argc, const char* const* argv) {
         std::cout << "  " << s.name << std::string(width + 2 - s.name.size(), ' ') << s.summary << '\n';
       return exit_ok;
     }
+    if ((study->parsed() || mesh->parsed()) && sph::Communicator::world().size() > 1)
+      throw sph::ParameterError("'study' and 'mesh' run on one rank; start them without mpirun");
     if (study->parsed()) return run_study(study_scene, sweep, compare, options);
     if (mesh->parsed()) return run_mesh_command(mesh_kind, mesh_out, mesh_edge, options.quiet);
     for (const auto& [name, command] : scene_commands) {

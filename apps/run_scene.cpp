@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "libsph/core/communicator.hpp"
 #include "libsph/core/numerical_failure.hpp"
 #include "libsph/core/parallel.hpp"
 #include "libsph/io/checkpoint.hpp"
@@ -113,6 +114,18 @@ SceneRunResult run_scene(const std::string& scene_name, const CommonOptions& opt
     throw sph::ParameterError("scene '" + scene_name + "' does not save its whole state, so it cannot be checkpointed or resumed "
                               "(--checkpoint-interval, --interrupt-at, --resume); scenes that can: " + can);
   }
+  const sph::Communicator& world = sph::Communicator::world();
+  if (world.size() > 1) {
+    if (!scene->distributes()) {
+      std::string can;
+      for (const auto& other : scene_registry())
+        if (other.make()->distributes()) can += (can.empty() ? "" : ", ") + other.name;
+      throw sph::ParameterError("scene '" + scene_name + "' runs on one rank only, not on the " + std::to_string(world.size()) +
+                                " ranks of this mpirun; scenes that run distributed: " + can);
+    }
+    if (wants_checkpoints)
+      throw sph::ParameterError("checkpoints (--checkpoint-interval, --interrupt-at, --resume) are not available in distributed runs");
+  }
   if (!(options.checkpoint_interval >= 0) || !std::isfinite(options.checkpoint_interval))
     throw sph::ParameterError("option '--checkpoint-interval' = " + exact(options.checkpoint_interval) + ": must be >= 0 (simulated time)");
   if (interrupt_asked && !(options.interrupt_at >= 0 && std::isfinite(options.interrupt_at)))
@@ -158,13 +171,16 @@ SceneRunResult run_scene(const std::string& scene_name, const CommonOptions& opt
   if (!options.quiet) std::cout << "cardiosph " << scene_name << ", parameters:\n" << parameters.describe() << std::flush;
 
   // 2. Run into a staging folder (resuming: a copy of the interrupted run's folder).
+  // Rank 0 alone touches the folders; the others only compute (libsph/io/run_harness.hpp).
   const fs::path staging = fs::path(output.string() + (resuming ? ".resume" : ".partial"));
-  fs::remove_all(staging);
-  if (resuming) {
-    fs::copy(options.resume, staging, fs::copy_options::recursive);
-    fs::remove(staging / "report.json");
-  } else {
-    fs::create_directories(staging);
+  if (world.is_root()) {
+    fs::remove_all(staging);
+    if (resuming) {
+      fs::copy(options.resume, staging, fs::copy_options::recursive);
+      fs::remove(staging / "report.json");
+    } else {
+      fs::create_directories(staging);
+    }
   }
   sph::ThreadLimit thread_limit(static_cast<std::size_t>(options.threads));
   RunContext ctx{staging, options.quiet, {}};
@@ -178,6 +194,7 @@ SceneRunResult run_scene(const std::string& scene_name, const CommonOptions& opt
   if (checkpoint && !options.quiet)
     std::cout << "resuming " << scene_name << " from its checkpoint at simulated time " << checkpoint->time << "\n" << std::flush;
   ctx.report.threads = sph::active_thread_count();
+  ctx.report.ranks = static_cast<std::size_t>(world.size());
   const auto start = std::chrono::steady_clock::now();
   try {
     scene->run(ctx);
@@ -188,11 +205,11 @@ SceneRunResult run_scene(const std::string& scene_name, const CommonOptions& opt
     result.exit_code = exit_interrupted;
     std::cerr << "cardiosph " << scene_name << ": " << ctx.report.message << '\n';
   } catch (const sph::ParameterError&) {
-    fs::remove_all(staging);
+    if (world.is_root()) fs::remove_all(staging);
     throw;
   } catch (const std::invalid_argument& error) {
     // Input the scene could only reject while building (e.g. a geometry): nothing is kept.
-    fs::remove_all(staging);
+    if (world.is_root()) fs::remove_all(staging);
     throw sph::ParameterError(error.what());
   } catch (const std::exception& error) {
     ctx.report.status = "failed";
@@ -201,6 +218,8 @@ SceneRunResult run_scene(const std::string& scene_name, const CommonOptions& opt
     std::cerr << "cardiosph " << scene_name << ": run failed: " << error.what() << '\n';
   }
   ctx.report.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.report = ctx.report;
+  if (!world.is_root()) return result;
   // A completed run leaves nothing to resume; a failed or interrupted one keeps its last checkpoint.
   if (result.exit_code == exit_ok) fs::remove(staging / sph::checkpoint_file_name);
   ctx.report.write(staging / "report.json");

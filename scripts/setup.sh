@@ -7,7 +7,7 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 packages=(build-essential cmake pkg-config
           libeigen3-dev libtbb-dev libsundials-dev libassimp-dev libvtk9-dev libcgal-dev
           libgtest-dev libbenchmark-dev libtomlplusplus-dev nlohmann-json3-dev libcli11-dev
-          gnuplot-nox tetgen)
+          gnuplot-nox tetgen libopenmpi-dev openmpi-bin libtrilinos-zoltan-dev)
 missing=()
 for package in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "geometry/lattice.hpp"
+#include "libsph/core/distribution.hpp"
 #include "libsph/core/kernels.hpp"
 #include "libsph/core/neighbour_relation.hpp"
 #include "libsph/core/parallel.hpp"
@@ -44,10 +45,13 @@ void run_diffusion_problem(const DiffusionProblem& problem, RunContext& ctx) {
   const Real dp = (problem.upper[0] - problem.lower[0]) / static_cast<Real>(problem.resolution);
   const Real h = static_cast<Real>(problem.numerics.discretisation.smoothing_length_ratio) * dp;
 
-  // Particles and initial state.
+  // Particles and initial state. Every rank builds the whole body; a distributed run keeps this
+  // rank's part with its ghosts (libsph/core/distribution.hpp). The probes are laid on the whole body.
   auto body = geometry::lattice_box<2>("tissue", problem.lower, problem.upper, dp);
   const auto kernel = sph::make_kernel<2>(problem.numerics.discretisation.kernel);
-  const auto relation = sph::build_inner_relation<2>(body.position, kernel, h);
+  const sph::PointProbes<2> probes(problem.probes, body.position, body.volume, kernel, h);
+  sph::distribute(body, std::visit([h]<class K>(const K&) { return K::support_radius(h); }, kernel));
+  const auto relation = sph::build_inner_relation<2>(body, kernel, h);
 
   typename sph::ScalarDiffusionSystem<2>::Settings settings;
   settings.field_name = "concentration";
@@ -59,9 +63,7 @@ void run_diffusion_problem(const DiffusionProblem& problem, RunContext& ctx) {
   const auto exact_handle = body.register_field<Real>("exact_concentration", 0);
   auto C_exact = body.field(exact_handle);
 
-  auto total_amount = [&] {
-    return sph::parallel_sum(body.n_particles(), 0.0, [&](std::size_t i) { return double(body.volume[i] * C[i]); });
-  };
+  auto total_amount = [&] { return sph::global_sum(body, [&](std::size_t i) { return double(body.volume[i] * C[i]); }); };
   const double initial_amount = total_amount();
 
   // Time loop: one stage; observers every 1/100 of the run, particles at the output interval.
@@ -77,8 +79,8 @@ void run_diffusion_problem(const DiffusionProblem& problem, RunContext& ctx) {
   run.add_relation("tissue", relation);
 
   // Observers: C at the probe points by the linear moving-least-squares fit (libsph/core/point_probes.hpp).
-  const sph::PointProbes<2> probes(problem.probes, body.position, body.volume, kernel, h);
   std::vector<std::string> columns;
+  std::vector<Real> whole_C;
   for (std::size_t p = 0; p < problem.probes.size(); ++p) {
     std::ostringstream name;
     name << "P" << p << "(" << problem.probes[p][0] << ";" << problem.probes[p][1] << ")";
@@ -87,21 +89,27 @@ void run_diffusion_problem(const DiffusionProblem& problem, RunContext& ctx) {
   }
   run.add_time_series("observers.csv", columns, static_cast<Real>(problem.end_time / 100), [&](const sph::StepInfo& s) {
     std::vector<double> row;
+    const auto C_all = sph::gather_all(body, std::span<const Real>(C), whole_C);
     for (std::size_t p = 0; p < probes.size(); ++p) {
-      row.push_back(probes.sample(p, C));
+      row.push_back(probes.sample(p, C_all));
       row.push_back(s.time > 0 ? problem.exact(problem.probes[p], s.time) : problem.initial(problem.probes[p], dp));
     }
     return row;
   });
   run.run();
 
-  // Error against the exact solution at the end time.
+  // Error against the exact solution at the end time, over the whole body.
+  std::vector<Vec2> whole_x;
+  std::vector<Real> whole_V;
+  const auto x_all = sph::gather_all(body, std::span<const Vec2>(body.position), whole_x);
+  const auto V_all = sph::gather_all(body, std::span<const Real>(body.volume), whole_V);
+  const auto C_all = sph::gather_all(body, std::span<const Real>(C), whole_C);
   double error2 = 0, exact2 = 0, max_abs = 0;
-  for (std::size_t i = 0; i < body.n_particles(); ++i) {
-    const double exact = problem.exact(body.position[i], problem.end_time);
-    const double difference = C[i] - exact;
-    error2 += body.volume[i] * difference * difference;
-    exact2 += body.volume[i] * exact * exact;
+  for (std::size_t i = 0; i < x_all.size(); ++i) {
+    const double exact = problem.exact(x_all[i], problem.end_time);
+    const double difference = C_all[i] - exact;
+    error2 += V_all[i] * difference * difference;
+    exact2 += V_all[i] * exact * exact;
     max_abs = std::max(max_abs, std::abs(difference));
   }
   auto& report = ctx.report;
@@ -135,6 +143,7 @@ class DiffusionBandScene final : public Scene {
       throw sph::ParameterError("parameter 'box_height' must be a whole number of particle spacings (box_length / resolution)");
   }
   bool checkpoints() const override { return true; }
+  bool distributes() const override { return true; }
   void run(RunContext& ctx) override {
     const double a = p_.band_start, b = p_.band_end, D = p_.diffusivity;
     DiffusionProblem problem;
@@ -195,6 +204,7 @@ class DiffusionGaussianScene final : public Scene {
     }
   }
   bool checkpoints() const override { return true; }
+  bool distributes() const override { return true; }
   void run(RunContext& ctx) override {
     const double s0 = p_.initial_width;
     const Vec2 centre = Vec2::Constant(static_cast<Real>(p_.box_size / 2));

@@ -38,6 +38,8 @@ class Scene {
   virtual void run(RunContext& ctx) = 0;
   /// Whether the run saves its whole state in checkpoints, so that it can be interrupted and resumed.
   virtual bool checkpoints() const { return false; }
+  /// Whether the scene runs on several MPI ranks (libsph/core/distribution.hpp).
+  virtual bool distributes() const { return false; }
 };
 
 struct SceneEntry {

@@ -7,7 +7,8 @@
 namespace sph {
 
 template <int Dim>
-void CellLinkedList<Dim>::rebuild(std::span<const Vec<Dim>> sources, Real search_radius) {
+void CellLinkedList<Dim>::rebuild(std::span<const Vec<Dim>> sources, Real search_radius, const Vec<Dim>* origin,
+                                  std::span<const Index> order) {
   if (!(search_radius > 0)) throw std::invalid_argument("cell-linked list: search radius must be positive");
   // A cell a little larger than the search radius guarantees that two points closer than the
   // radius never fall two cells apart, whatever the rounding of (x - origin) / cell_size.
@@ -20,6 +21,12 @@ void CellLinkedList<Dim>::rebuild(std::span<const Vec<Dim>> sources, Real search
     upper = upper.cwiseMax(x);
   }
   if (sources.empty()) lower = upper = Vec<Dim>::Zero();
+  if (origin) {
+    if (!sources.empty() && (lower - *origin).minCoeff() < 0) throw std::invalid_argument("cell-linked list: a source lies below the grid origin");
+    lower = *origin;
+  }
+  if (!order.empty() && order.size() != sources.size())
+    throw std::invalid_argument("cell-linked list: the binning order does not cover the sources");
   origin_ = lower;
   std::size_t total = 1;
   for (int d = 0; d < Dim; ++d) {
@@ -48,7 +55,10 @@ void CellLinkedList<Dim>::rebuild(std::span<const Vec<Dim>> sources, Real search
   for (std::size_t c = 0; c < total; ++c) cell_start_[c + 1] += cell_start_[c];
   cell_particles_.resize(sources.size());
   next_.assign(cell_start_.begin(), cell_start_.end() - 1);
-  for (std::size_t i = 0; i < sources.size(); ++i) cell_particles_[next_[cell_of_[i]]++] = static_cast<Index>(i);
+  if (order.empty())
+    for (std::size_t i = 0; i < sources.size(); ++i) cell_particles_[next_[cell_of_[i]]++] = static_cast<Index>(i);
+  else
+    for (const Index i : order) cell_particles_[next_[cell_of_[i]]++] = i;
 }
 
 template class CellLinkedList<2>;

@@ -20,9 +20,16 @@ template <int Dim>
 class CellLinkedList {
  public:
   CellLinkedList() = default;
-  CellLinkedList(std::span<const Vec<Dim>> sources, Real search_radius) { rebuild(sources, search_radius); }
-  /// Bins `sources` anew, reusing the storage.
-  void rebuild(std::span<const Vec<Dim>> sources, Real search_radius);
+  CellLinkedList(std::span<const Vec<Dim>> sources, Real search_radius, const Vec<Dim>* origin = nullptr,
+                 std::span<const Index> order = {}) {
+    rebuild(sources, search_radius, origin, order);
+  }
+  /// Bins `sources` anew, reusing the storage. A distributed set (partition.hpp) passes the origin of
+  /// the whole set's grid (its lower corner) and its local indices in global-id order, so that cells
+  /// and their contents are those of a serial run; by default the grid starts at the sources' lower
+  /// corner and a cell holds its sources by index.
+  void rebuild(std::span<const Vec<Dim>> sources, Real search_radius, const Vec<Dim>* origin = nullptr,
+               std::span<const Index> order = {});
 
   /// Calls visit(j) for every source j in the cells around `x` (a superset of the neighbours
   /// within the search radius), in a fixed order: cells in stencil order, sources by index.

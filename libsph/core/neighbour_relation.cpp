@@ -50,7 +50,8 @@ void add_periodic_images(NeighbourList<Dim>& list, std::span<const Vec<Dim>> sou
 
 template <int Dim, class Kernel>
 void fill_relation(NeighbourList<Dim>& list, std::span<const Vec<Dim>> targets, std::span<const Vec<Dim>> sources_in,
-                   Real h, bool exclude_self, const PeriodicBox<Dim>* box = nullptr, bool keep_candidates = true) {
+                   Real h, bool exclude_self, const PeriodicBox<Dim>* box = nullptr, bool keep_candidates = true,
+                   const Partition<Dim>* partition = nullptr) {
   if (!(h > 0)) throw std::invalid_argument("neighbour relation: smoothing length must be positive");
   const Real support = Kernel::support_radius(h);
   const Real support2 = support * support;
@@ -64,7 +65,12 @@ void fill_relation(NeighbourList<Dim>& list, std::span<const Vec<Dim>> targets, 
   }
   const auto& origin = list.image_origin;
   auto source_index = [&](Index j) { return j < n_original ? j : origin[j - n_original]; };
-  list.cells.rebuild(sources, support);
+  if (partition) {
+    if (box && box->any()) throw std::logic_error("neighbour relation: periodic images of a distributed set are not supported");
+    list.cells.rebuild(sources, support, &partition->grid_origin, partition->id_order);
+  } else {
+    list.cells.rebuild(sources, support);
+  }
   const auto& cells = list.cells;
   const std::size_t n = targets.size();
   list.smoothing_length = h;
@@ -165,6 +171,18 @@ InnerRelation<Dim> build_inner_relation(std::span<const Vec<Dim>> positions, con
 }
 
 template <int Dim>
+InnerRelation<Dim> build_inner_relation(const ParticleSet<Dim>& particles, const AnyKernel<Dim>& kernel,
+                                        Real smoothing_length) {
+  InnerRelation<Dim> relation;
+  const std::span<const Vec<Dim>> all = particles.position;
+  std::visit([&]<class K>(const K&) {
+    fill_relation<Dim, K>(relation, all.first(particles.n_owned()), all, smoothing_length, true, nullptr, false,
+                          particles.partition());
+  }, kernel);
+  return relation;
+}
+
+template <int Dim>
 ContactRelation<Dim> build_contact_relation(std::span<const Vec<Dim>> targets, std::span<const Vec<Dim>> sources,
                                             const AnyKernel<Dim>& kernel, Real smoothing_length) {
   ContactRelation<Dim> relation;
@@ -204,6 +222,8 @@ template void rebuild_contact_relation<3>(ContactRelation<3>&, std::span<const V
                                           const AnyKernel<3>&, Real, const PeriodicBox<3>&);
 template InnerRelation<2> build_inner_relation<2>(std::span<const Vec<2>>, const AnyKernel<2>&, Real);
 template InnerRelation<3> build_inner_relation<3>(std::span<const Vec<3>>, const AnyKernel<3>&, Real);
+template InnerRelation<2> build_inner_relation<2>(const ParticleSet<2>&, const AnyKernel<2>&, Real);
+template InnerRelation<3> build_inner_relation<3>(const ParticleSet<3>&, const AnyKernel<3>&, Real);
 template ContactRelation<2> build_contact_relation<2>(std::span<const Vec<2>>, std::span<const Vec<2>>,
                                                       const AnyKernel<2>&, Real);
 template ContactRelation<3> build_contact_relation<3>(std::span<const Vec<3>>, std::span<const Vec<3>>,

@@ -21,8 +21,9 @@
 // kernel supports, so that no particle sees itself or one source twice.
 //
 // Distribution: targets and sources are plain position spans, so a partition's relation is built
-// over its owned particles as targets and owned plus ghost particles as sources; no code here
-// assumes that a source is owned (docs/architecture.md).
+// over its owned particles as targets and owned plus ghost particles as sources (the ParticleSet
+// overload of build_inner_relation does this, on the grid and in the order of partition.hpp); no
+// code here assumes that a source is owned (docs/architecture.md).
 
 #include <array>
 #include <cmath>
@@ -31,6 +32,7 @@
 
 #include "libsph/core/cell_linked_list.hpp"
 #include "libsph/core/kernels.hpp"
+#include "libsph/core/particles.hpp"
 #include "libsph/core/types.hpp"
 
 namespace sph {
@@ -151,6 +153,12 @@ struct ContactRelation : NeighbourList<Dim> {};
 /// Neighbours of every particle of `positions` among the same particles.
 template <int Dim>
 InnerRelation<Dim> build_inner_relation(std::span<const Vec<Dim>> positions, const AnyKernel<Dim>& kernel,
+                                        Real smoothing_length);
+
+/// Neighbours of the particles a rank computes (its owned ones; all of them in a serial run) among
+/// all its local particles; for a distributed set, rows in the order of a serial run (partition.hpp).
+template <int Dim>
+InnerRelation<Dim> build_inner_relation(const ParticleSet<Dim>& particles, const AnyKernel<Dim>& kernel,
                                         Real smoothing_length);
 
 /// Neighbours of every target among the sources (two different particle sets).

@@ -8,7 +8,12 @@
 // field is its label for output only. permute() reorders every particle's entries together (for
 // sorting along the cell list, particle_sorting.hpp); select() also deletes and copies particles
 // (open boundaries of a fluid), every field with them.
+//
+// A distributed set (libsph/core/distribution.hpp) holds this rank's owned particles followed by
+// ghosts; n_owned() says where the ghosts begin (all particles are owned in a serial run), and
+// partition() describes the layout.
 
+#include <cstring>
 #include <memory>
 #include <span>
 #include <stdexcept>
@@ -17,6 +22,7 @@
 #include <typeinfo>
 #include <vector>
 
+#include "libsph/core/partition.hpp"
 #include "libsph/core/state_archive.hpp"
 #include "libsph/core/types.hpp"
 
@@ -46,6 +52,12 @@ class FieldArrayBase {
   virtual void select(std::span<const Index> order) = 0;
   /// Saves or loads the values under the field's name (checkpoints).
   virtual void checkpoint(StateArchive& archive) = 0;
+  /// Appends the bytes of the values of `which` to `out` (messages between ranks; plain data only).
+  virtual void pack(std::span<const Index> which, std::vector<std::byte>& out) const = 0;
+  /// Reads the values of `where` from `in` (as pack() wrote them); returns the bytes read.
+  virtual std::size_t unpack(std::span<const Index> where, const std::byte* in) = 0;
+  /// An array of the same name, type and output flag holding n default values.
+  virtual std::unique_ptr<FieldArrayBase> make_like(std::size_t n) const = 0;
 
  private:
   std::string name_;
@@ -64,6 +76,28 @@ class FieldArray final : public FieldArrayBase {
   void checkpoint(StateArchive& archive) override {
     if constexpr (is_plain_data_v<T>) archive.io(name(), values);
     else throw std::logic_error("field '" + name() + "' cannot be checkpointed: its values are not plain data");
+  }
+  void pack(std::span<const Index> which, std::vector<std::byte>& out) const override {
+    if constexpr (is_plain_data_v<T>) {
+      const std::size_t start = out.size();
+      out.resize(start + which.size() * sizeof(T));
+      for (std::size_t k = 0; k < which.size(); ++k)
+        std::memcpy(out.data() + start + k * sizeof(T), &values[which[k]], sizeof(T));
+    } else {
+      throw std::logic_error("field '" + name() + "' cannot be sent between ranks: its values are not plain data");
+    }
+  }
+  std::size_t unpack(std::span<const Index> where, const std::byte* in) override {
+    if constexpr (is_plain_data_v<T>) {
+      for (std::size_t k = 0; k < where.size(); ++k) std::memcpy(static_cast<void*>(&values[where[k]]), in + k * sizeof(T), sizeof(T));
+      return where.size() * sizeof(T);
+    } else {
+      throw std::logic_error("field '" + name() + "' cannot be sent between ranks: its values are not plain data");
+    }
+  }
+  std::unique_ptr<FieldArrayBase> make_like(std::size_t n) const override {
+    if constexpr (requires { T::Zero(); }) return std::make_unique<FieldArray<T>>(name(), n, T(T::Zero()), write_output());
+    else return std::make_unique<FieldArray<T>>(name(), n, T{}, write_output());
   }
   std::vector<T> values;
 
@@ -91,7 +125,27 @@ class ParticleSet {
   }
 
   const std::string& name() const { return name_; }
+  /// Local particles: owned and ghosts.
   std::size_t n_particles() const { return position.size(); }
+  /// Particles this rank computes: the first n_owned() (all of them unless distributed).
+  std::size_t n_owned() const { return partition_ ? partition_->n_owned : n_particles(); }
+  /// The layout of a distributed set, or nullptr.
+  const Partition<Dim>* partition() const { return partition_.get(); }
+  /// Makes this set one rank's part (distribution.hpp); the particles must already be in its layout.
+  void set_partition(std::shared_ptr<const Partition<Dim>> partition) {
+    if (partition && partition->global_id.size() != n_particles())
+      throw std::invalid_argument("particle set '" + name_ + "': partition of the wrong length");
+    partition_ = std::move(partition);
+  }
+  /// Adds, for every field of `other` that this set lacks, a field of the same name and type
+  /// (default values), in the order of `other` (the whole set gathered from a distributed one).
+  void register_fields_like(const ParticleSet& other) {
+    for (const auto& f : other.fields_) {
+      bool present = false;
+      for (const auto& mine : fields_) present = present || mine->name() == f->name();
+      if (!present) fields_.push_back(f->make_like(n_particles()));
+    }
+  }
 
   /// Registers `name` with the initial value, or returns the handle of the existing field of that
   /// name (its values are kept). Registering the same name with another type is a logic error.
@@ -147,6 +201,8 @@ class ParticleSet {
   /// `order`, whose length is the new number of particles (an old particle left out is deleted, one
   /// named twice is copied). Relations and indices held elsewhere must be rebuilt, as after permute().
   void select(std::span<const Index> order) {
+    if (partition_)
+      throw std::logic_error("particle set '" + name_ + "': the particles of a distributed set cannot be reordered");
     for (const Index k : order)
       if (static_cast<std::size_t>(k) >= n_particles())
         throw std::invalid_argument("particle set '" + name_ + "': selection names particle " + std::to_string(k) +
@@ -179,6 +235,7 @@ class ParticleSet {
  private:
   std::string name_;
   std::vector<std::unique_ptr<FieldArrayBase>> fields_;
+  std::shared_ptr<const Partition<Dim>> partition_;
   std::vector<VecD> position_scratch_;
   std::vector<Real> volume_scratch_;
 };

@@ -120,18 +120,22 @@ template <int Dim>
 std::vector<Real> diffusion_pair_coefficients(const InnerRelation<Dim>& relation, std::span<const Real> volume,
                                               std::span<const Mat<Dim>> diffusion_tensor, DiffusionCorrection correction,
                                               std::span<const Mat<Dim>> correction_matrix,
-                                              std::span<const MomentSystemInverse<Dim>> moment_systems) {
-  const std::size_t n = relation.n_targets();
+                                              std::span<const Mat<Dim>> moment_matrix) {
+  const std::size_t n = relation.n_targets(), n_sources = volume.size();
   const bool uniform = diffusion_tensor.size() == 1;
-  if (!uniform && diffusion_tensor.size() != n)
+  if (!uniform && diffusion_tensor.size() != n_sources)
     throw std::invalid_argument("diffusion: need one diffusion tensor or one per particle");
-  if (correction == DiffusionCorrection::gradient && correction_matrix.size() != n)
+  if (correction == DiffusionCorrection::gradient && correction_matrix.size() != n_sources)
     throw std::invalid_argument("diffusion: need one correction matrix per particle");
-  std::vector<Mat<Dim>> moment;
-  if (correction == DiffusionCorrection::moment) {
-    if (moment_systems.size() == n) moment = diffusion_moment_matrices<Dim>(moment_systems, diffusion_tensor);
-    else moment = diffusion_moment_matrices<Dim>(relation, volume, diffusion_tensor);
+  std::vector<Mat<Dim>> computed;
+  std::span<const Mat<Dim>> moment = moment_matrix;
+  if (correction == DiffusionCorrection::moment && moment.empty()) {
+    if (n != n_sources) throw std::invalid_argument("diffusion: a distributed set needs its moment matrices with the ghosts'");
+    computed = diffusion_moment_matrices<Dim>(relation, volume, diffusion_tensor);
+    moment = computed;
   }
+  if (correction == DiffusionCorrection::moment && moment.size() != n_sources)
+    throw std::invalid_argument("diffusion: need one moment matrix per particle");
 
   std::vector<Real> coefficient(relation.n_pairs());
   parallel_for(n, [&](std::size_t i) {
@@ -188,10 +192,10 @@ template Mat<2> transversely_isotropic_tensor<2>(Real, Real, const Vec<2>&);
 template Mat<3> transversely_isotropic_tensor<3>(Real, Real, const Vec<3>&);
 template std::vector<Real> diffusion_pair_coefficients<2>(const InnerRelation<2>&, std::span<const Real>,
                                                           std::span<const Mat<2>>, DiffusionCorrection,
-                                                          std::span<const Mat<2>>, std::span<const MomentSystemInverse<2>>);
+                                                          std::span<const Mat<2>>, std::span<const Mat<2>>);
 template std::vector<Real> diffusion_pair_coefficients<3>(const InnerRelation<3>&, std::span<const Real>,
                                                           std::span<const Mat<3>>, DiffusionCorrection,
-                                                          std::span<const Mat<3>>, std::span<const MomentSystemInverse<3>>);
+                                                          std::span<const Mat<3>>, std::span<const Mat<3>>);
 template std::vector<MomentSystemInverse<2>> diffusion_moment_systems<2>(const InnerRelation<2>&, std::span<const Real>);
 template std::vector<MomentSystemInverse<3>> diffusion_moment_systems<3>(const InnerRelation<3>&, std::span<const Real>);
 template std::vector<Mat<2>> diffusion_moment_matrices<2>(std::span<const MomentSystemInverse<2>>, std::span<const Mat<2>>);

@@ -71,14 +71,15 @@ std::vector<MomentSystemInverse<Dim>> diffusion_moment_systems(const InnerRelati
 
 /// Pair coefficients a_ij of the operator above, stored along the relation's pairs.
 /// `diffusion_tensor` holds one tensor (uniform) or one per particle; `correction_matrix` (one per
-/// particle) is needed for DiffusionCorrection::gradient only; `moment_systems` (one per particle,
-/// from diffusion_moment_systems) may be passed for DiffusionCorrection::moment, else they are
-/// computed here.
+/// particle) is needed for DiffusionCorrection::gradient only; `moment_matrix` (one per particle,
+/// from diffusion_moment_matrices) may be passed for DiffusionCorrection::moment, else it is
+/// computed here. Per-particle arrays cover every source of the relation: on a distributed set the
+/// ghosts too (their values updated from their owners), so it must be passed there.
 template <int Dim>
 std::vector<Real> diffusion_pair_coefficients(const InnerRelation<Dim>& relation, std::span<const Real> volume,
                                               std::span<const Mat<Dim>> diffusion_tensor, DiffusionCorrection correction,
                                               std::span<const Mat<Dim>> correction_matrix = {},
-                                              std::span<const MomentSystemInverse<Dim>> moment_systems = {});
+                                              std::span<const Mat<Dim>> moment_matrix = {});
 
 /// The matrices A_i of the moment correction (see above), one per particle.
 template <int Dim>

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "libsph/core/correction_matrix.hpp"
+#include "libsph/core/distribution.hpp"
 #include "libsph/core/numerical_failure.hpp"
 #include "libsph/core/parallel.hpp"
 #include "libsph/diffusion/diffusion_operator.hpp"
@@ -33,7 +34,7 @@ template <int Dim>
 ScalarDiffusionSystem<Dim>::ScalarDiffusionSystem(ParticleSet<Dim>& particles, const InnerRelation<Dim>& relation,
                                                   Settings settings)
     : particles_(particles), relation_(relation), settings_(std::move(settings)) {
-  const std::size_t n = particles_.n_particles();
+  const std::size_t n = particles_.n_owned();
   if (relation_.n_targets() != n)
     throw std::invalid_argument("diffusion on '" + particles_.name() + "': relation does not match the particles");
   if (!(settings_.numerics.cfl > 0 && settings_.numerics.cfl <= 1))
@@ -51,13 +52,14 @@ ScalarDiffusionSystem<Dim>::ScalarDiffusionSystem(ParticleSet<Dim>& particles, c
   if (settings_.numerics.correction == DiffusionCorrection::gradient) {
     const auto handle = particles_.template register_field<Mat<Dim>>("correction_matrix", Mat<Dim>::Identity(), false);
     compute_correction_matrix<Dim>(relation_, particles_.volume, particles_.field(handle));
+    update_ghosts(particles_, particles_.field(handle));
     const auto B = particles_.field(handle);
     correction_matrix_.assign(B.begin(), B.end());
   }
   assemble();
   rate_.resize(n);
   if (settings_.numerics.integrator == DiffusionIntegrator::heun) {
-    predicted_.resize(n);
+    predicted_.resize(particles_.n_particles());
     predicted_rate_.resize(n);
   }
 }
@@ -72,28 +74,35 @@ void ScalarDiffusionSystem<Dim>::set_diffusion_tensor(std::vector<Mat<Dim>> diff
 
 template <int Dim>
 void ScalarDiffusionSystem<Dim>::assemble() {
-  if (settings_.numerics.correction == DiffusionCorrection::moment && moment_systems_.empty())
-    moment_systems_ = diffusion_moment_systems<Dim>(relation_, particles_.volume);
+  std::vector<Mat<Dim>> moment;
+  if (settings_.numerics.correction == DiffusionCorrection::moment) {
+    if (moment_systems_.empty()) moment_systems_ = diffusion_moment_systems<Dim>(relation_, particles_.volume);
+    moment = diffusion_moment_matrices<Dim>(std::span<const MomentSystemInverse<Dim>>(moment_systems_), settings_.diffusion_tensor);
+    moment.resize(particles_.n_particles());  // the ghosts' from their owners
+    update_ghosts(particles_, std::span<Mat<Dim>>(moment));
+  }
   pair_coefficient_ = diffusion_pair_coefficients<Dim>(relation_, particles_.volume, settings_.diffusion_tensor,
-                                                       settings_.numerics.correction, correction_matrix_, moment_systems_);
+                                                       settings_.numerics.correction, correction_matrix_, moment);
   if (settings_.numerics.clip_negative_coefficients)
     parallel_for(pair_coefficient_.size(), [&](std::size_t k) { pair_coefficient_[k] = std::max(pair_coefficient_[k], Real(0)); });
-  step_limit_ = diffusion_time_step_limit<Dim>(relation_, pair_coefficient_);
+  step_limit_ = global_min(particles_, diffusion_time_step_limit<Dim>(relation_, pair_coefficient_));
 }
 
 template <int Dim>
 void ScalarDiffusionSystem<Dim>::advance(Real time, Real dt) {
   auto C = particles_.field(value_);
-  const std::size_t n = C.size();
+  const std::size_t n = particles_.n_owned();
   apply_diffusion<Dim>(relation_, pair_coefficient_, C, rate_);
   if (settings_.numerics.integrator == DiffusionIntegrator::forward_euler) {
     parallel_for(n, [&](std::size_t i) { C[i] += dt * rate_[i]; });
   } else {
     // Heun: predictor C* = C + dt L(C), corrector C += dt/2 (L(C) + L(C*)).
     parallel_for(n, [&](std::size_t i) { predicted_[i] = C[i] + dt * rate_[i]; });
+    update_ghosts(particles_, std::span<Real>(predicted_));
     apply_diffusion<Dim>(relation_, pair_coefficient_, predicted_, predicted_rate_);
     parallel_for(n, [&](std::size_t i) { C[i] += Real(0.5) * dt * (rate_[i] + predicted_rate_[i]); });
   }
+  update_ghosts(particles_, C);
   check_finite(time + dt);
 }
 
@@ -105,18 +114,20 @@ void ScalarDiffusionSystem<Dim>::evaluate_rate() {
 template <int Dim>
 void ScalarDiffusionSystem<Dim>::update(Real time, Real dt) {
   auto C = particles_.field(value_);
-  parallel_for(C.size(), [&](std::size_t i) { C[i] += dt * rate_[i]; });
+  parallel_for(particles_.n_owned(), [&](std::size_t i) { C[i] += dt * rate_[i]; });
+  update_ghosts(particles_, C);
   check_finite(time + dt);
 }
 
 template <int Dim>
 void ScalarDiffusionSystem<Dim>::check_finite(Real time) const {
   const auto C = particles_.field(value_);
-  const std::size_t n = C.size();
+  const std::size_t n = particles_.n_owned();
   const std::size_t bad = first_index_where(n, [&](std::size_t i) { return !std::isfinite(C[i]); });
-  if (bad < n)
-    throw NumericalFailure(particles_.name(), bad, NumericalFailure::format_position(particles_.position[bad]),
-                           time, settings_.field_name, "is not finite");
+  const auto first = first_over_ranks(particles_, bad);
+  if (first.found)
+    throw NumericalFailure(particles_.name(), first.id, NumericalFailure::format_position(first.position), time,
+                           settings_.field_name, "is not finite");
 }
 
 template class ScalarDiffusionSystem<2>;

@@ -34,18 +34,18 @@ RunHarness::~RunHarness() = default;
 void RunHarness::add_time_series(const std::string& file, std::vector<std::string> columns, Real interval, Row row) {
   columns.insert(columns.begin(), "time");
   const std::size_t n_columns = columns.size();
-  series_.push_back(std::make_unique<TimeSeriesCsv>(options_.output_dir / file, std::move(columns)));
-  TimeSeriesCsv& csv = *series_.back();
+  series_.push_back(writes_files_ ? std::make_unique<TimeSeriesCsv>(options_.output_dir / file, std::move(columns)) : nullptr);
+  TimeSeriesCsv* csv = series_.back().get();
   stepper_.add_periodic_callback(
       interval,
-      [this, &csv, n_columns, row = std::move(row)](const StepInfo& s) {
+      [this, csv, n_columns, row = std::move(row)](const StepInfo& s) {
         timers_.measure("output_and_sampling", [&] {
           std::vector<double> values = row(s);
           values.insert(values.begin(), double(s.time));
           if (values.size() != n_columns)
             throw std::logic_error("time series: a row of " + std::to_string(values.size()) + " values for " +
                                    std::to_string(n_columns) + " columns");
-          csv.record(values);
+          if (csv) csv->record(values);
         });
       },
       false);
@@ -68,7 +68,7 @@ void RunHarness::save_or_load(StateArchive& archive) {
   timers_.checkpoint(harness);
   for (std::size_t k = 0; k < series_.size(); ++k) {
     auto series = archive.part("series" + std::to_string(k));
-    series_[k]->checkpoint(series);
+    if (series_[k]) series_[k]->checkpoint(series);
   }
   for (auto& [name, state] : states_) {
     auto part = archive.part(name);
@@ -110,7 +110,7 @@ std::size_t RunHarness::run() {
     last_completed_ = plan.resume->time;
   }
   if (plan.enabled) stepper_.set_interruption_check([this](const StepInfo& s) { return checkpoint_after_step(s); });
-  progress_ = std::make_unique<Progress>(options_.label, options_.quiet);
+  progress_ = std::make_unique<Progress>(options_.label, options_.quiet || !writes_files_);
   report_.simulated_time = double(stepper_.end_time());
   loop_start_ = std::chrono::steady_clock::now();
   const auto start = loop_start_;
@@ -129,11 +129,13 @@ std::size_t RunHarness::run() {
     finish();
     write_bodies(last_completed_);
     report_.simulated_time = last_completed_;
-    for (auto& s : series_) s->close();
+    for (auto& s : series_)
+      if (s) s->close();
     throw;
   }
   finish();
-  for (auto& s : series_) s->close();
+  for (auto& s : series_)
+    if (s) s->close();
   if (stepper_.interrupted()) {
     report_.simulated_time = last_completed_;
     throw RunInterrupted(last_completed_, options_.output_dir / checkpoint_file_name);

@@ -17,6 +17,10 @@
 // simulated_time to the last completed step, and passes the error on; the time series keep every
 // row recorded so far.
 //
+// Distributed runs (libsph/core/distribution.hpp): every rank runs the harness (its samplers and
+// writers gather from all ranks), rank 0 alone writes files and shows progress; a distributed body
+// is gathered to rank 0 and written whole, in global-id order, as a serial run writes it.
+//
 // Checkpoints (libsph/io/checkpoint.hpp), when Options::checkpoint is enabled: after every macro step
 // whose events have fired, the harness writes <output>/checkpoint.bin if a checkpoint interval has
 // passed, and also stops the run there (RunInterrupted, after closing the time series) when an
@@ -33,6 +37,7 @@
 #include <string>
 #include <vector>
 
+#include "libsph/core/distribution.hpp"
 #include "libsph/core/neighbour_relation.hpp"
 #include "libsph/core/particles.hpp"
 #include "libsph/core/section_timers.hpp"
@@ -132,7 +137,8 @@ class RunHarness {
   Options options_;
   SectionTimers timers_;
   std::vector<std::function<void(double)>> writers_;
-  std::vector<std::unique_ptr<TimeSeriesCsv>> series_;
+  std::vector<std::unique_ptr<TimeSeriesCsv>> series_;  ///< null on ranks other than 0
+  bool writes_files_ = Communicator::world().is_root();
   std::vector<std::pair<std::string, std::function<void(StateArchive&)>>> states_;
   std::size_t next_checkpoint_ = 1;
   double time_loop_before_ = 0;
@@ -145,10 +151,16 @@ class RunHarness {
 template <int Dim>
 void RunHarness::add_body(ParticleSet<Dim>& body, Real output_interval, std::function<void(double)> prepare) {
   auto output = std::make_shared<ParticleOutput<Dim>>(options_.output_dir, body.name());
-  auto write = [this, &body, output, prepare = std::move(prepare)](double time) {
+  auto whole = std::make_shared<ParticleSet<Dim>>();  // rank 0's gathered copy of a distributed body
+  auto write = [this, &body, output, whole, prepare = std::move(prepare)](double time) {
     timers_.measure("output_and_sampling", [&] {
       if (prepare) prepare(time);
-      output->write(body, time);
+      if (!body.partition()) {
+        output->write(body, time);
+        return;
+      }
+      gather_particles(body, *whole);
+      if (writes_files_) output->write(*whole, time);
     });
   };
   writers_.push_back(write);
@@ -159,7 +171,7 @@ void RunHarness::add_body(ParticleSet<Dim>& body, Real output_interval, std::fun
   const Real interval = output_interval > 0 ? output_interval : stepper_.end_time() - stepper_.start_time();
   if (interval > 0) stepper_.add_periodic_callback(interval, [write](const StepInfo& s) { write(double(s.time)); });
   else write(double(stepper_.start_time()));
-  report_.particles.set(body.name(), body.n_particles());
+  report_.particles.set(body.name(), body.partition() ? body.partition()->n_global : body.n_particles());
   report_.memory_bytes.set(body.name() + "_fields", body.bytes_per_particle() * body.n_particles());
 }
 

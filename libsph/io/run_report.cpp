@@ -46,6 +46,7 @@ nlohmann::json RunReport::to_json() const {
   out["simulated_time"] = simulated_time;
   out["steps"] = steps;
   out["threads"] = threads;
+  if (ranks > 1) out["ranks"] = ranks;
   out["particles"] = particles.json();
   out["memory_bytes"] = memory_bytes.json();
   out["parameters"] = parameters.json();

@@ -3,7 +3,7 @@
 //   scene, status ("completed" | "failed"), message, wall_time_s, simulated_time, steps,
 //   particles {body: count}, parameters {key: value}, results {name: number},
 //   errors {name: number} and reference (text) for scenes that compare with a reference,
-//   memory_bytes {body: bytes}, threads.
+//   memory_bytes {body: bytes}, threads, and ranks when the run is distributed over several.
 //
 // The sections are JSON objects held out of sight (only <nlohmann/json_fwd.hpp> here): a scene
 // that writes `report.results["name"] = value` includes <nlohmann/json.hpp> itself; set() writes a
@@ -60,6 +60,7 @@ struct RunReport {
   double simulated_time = 0;
   std::size_t steps = 0;
   std::size_t threads = 0;
+  std::size_t ranks = 1;  ///< MPI ranks of a distributed run
   ReportSection particles;
   ReportSection memory_bytes;
   ReportSection parameters;
