@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "libsph/core/distribution.hpp"
 #include "libsph/core/parallel.hpp"
 #include "libsph/io/parameters.hpp"
 
@@ -76,7 +77,7 @@ Monodomain<Dim>::Monodomain(sph::ParticleSet<Dim>& particles, const sph::InnerRe
                  diffusion_settings<Dim>(settings_, std::visit([](const auto& r) { return r.potential_field(); }, reaction_))) {
   if (!(settings_.numerics.time_step > 0 && std::isfinite(settings_.numerics.time_step)))
     throw std::invalid_argument("monodomain on '" + particles.name() + "': the time step must be positive");
-  const std::size_t n = particles.n_particles();
+  const std::size_t n = particles.n_owned();  // stimuli name owned particles (local indices)
   for (const auto& region : settings_.stimuli)
     for (std::size_t i : region.particles)
       if (i >= n)
@@ -88,8 +89,8 @@ Monodomain<Dim>::Monodomain(sph::ParticleSet<Dim>& particles, const sph::InnerRe
     maps_ = std::make_unique<ActionPotentialMaps<Dim>>(particles, settings_.repolarisation_percent,
                                                        settings_.activation_threshold);
   if (maps_) conduction_velocity_ = particles.template register_field<Real>("conduction_velocity", Real(-1));
-  stimulus_.assign(n, 0);
-  previous_potential_.assign(n, 0);
+  stimulus_.assign(particles.n_particles(), 0);
+  previous_potential_.assign(particles.n_particles(), 0);
   step_ = stage();
 }
 
@@ -135,7 +136,7 @@ void Monodomain<Dim>::record_activation(Real time, Real dt) {
   const Real threshold = settings_.activation_threshold;
   const auto V = particles_.field(potential_);
   auto activation = particles_.field(activation_);
-  sph::parallel_for(V.size(), [&](std::size_t i) {
+  sph::parallel_for(particles_.n_owned(), [&](std::size_t i) {
     if (activation[i] >= 0 || !(previous_potential_[i] < threshold && V[i] >= threshold)) return;
     const Real fraction = (threshold - previous_potential_[i]) / (V[i] - previous_potential_[i]);
     activation[i] = time + fraction * dt;
@@ -145,20 +146,26 @@ void Monodomain<Dim>::record_activation(Real time, Real dt) {
 template <int Dim>
 void Monodomain<Dim>::update_conduction_velocity() {
   if (!maps_) return;
+  sph::update_ghosts(particles_, particles_.field(activation_));
   conduction_velocity<Dim>(relation_, particles_.volume, particles_.field(activation_), particles_.field(conduction_velocity_));
 }
 
 template <int Dim>
 bool Monodomain<Dim>::all_activated() const {
   const auto activation = particles_.field(activation_);
-  return sph::first_index_where(activation.size(), [&](std::size_t i) { return activation[i] < 0; }) >= activation.size();
+  const std::size_t n = particles_.n_owned();
+  const bool here = sph::first_index_where(n, [&](std::size_t i) { return activation[i] < 0; }) >= n;
+  const auto* comm = sph::communicator_of(particles_);
+  return comm ? !comm->any(!here) : here;
 }
 
 template <int Dim>
 Real Monodomain<Dim>::latest_activation() const {
   if (!all_activated()) return -1;
   const auto activation = particles_.field(activation_);
-  return sph::parallel_max(activation.size(), Real(-1), [&](std::size_t i) { return activation[i]; });
+  const Real latest = sph::parallel_max(particles_.n_owned(), Real(-1), [&](std::size_t i) { return activation[i]; });
+  const auto* comm = sph::communicator_of(particles_);
+  return comm ? static_cast<Real>(comm->max(double(latest))) : latest;
 }
 
 template class Monodomain<2>;

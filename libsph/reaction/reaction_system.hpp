@@ -31,6 +31,7 @@
 #include <sstream>
 #include <string>
 
+#include "libsph/core/distribution.hpp"
 #include "libsph/core/numerical_failure.hpp"
 #include "libsph/core/parallel.hpp"
 #include "libsph/core/particles.hpp"
@@ -59,8 +60,10 @@ class ReactionSystem {
   /// resting state. Throws std::invalid_argument if a group has no model or the sizes differ.
   ReactionSystem(ParticleSet<Dim>& particles, std::vector<M> models, std::vector<std::uint16_t> group, Settings settings)
       : particles_(particles), models_(std::move(models)), group_(std::move(group)), settings_(settings) {
-    const std::size_t n = particles_.n_particles();
+    // The cells of the owned particles (distribution.hpp): a ghost's potential comes from its owner.
+    const std::size_t n = particles_.n_owned();
     if (models_.empty()) throw std::invalid_argument("reaction on '" + particles_.name() + "': no cell model");
+    if (!group_.empty() && group_.size() == particles_.n_particles()) group_.resize(n);
     if (!group_.empty() && group_.size() != n)
       throw std::invalid_argument("reaction on '" + particles_.name() + "': " + std::to_string(group_.size()) +
                                   " cell groups for " + std::to_string(n) + " particles");
@@ -75,6 +78,9 @@ class ReactionSystem {
     if (!(settings_.quiescent_step >= 0 && std::isfinite(settings_.quiescent_step)) ||
         !(settings_.quiescent_rate > 0 && std::isfinite(settings_.quiescent_rate)))
       throw std::invalid_argument("reaction on '" + particles_.name() + "': the quiescent step must be >= 0 and the quiescent rate > 0");
+    if (settings_.quiescent_step > 0 && particles_.partition())
+      throw std::invalid_argument("reaction on '" + particles_.name() +
+                                  "': quiescent cells (reaction_quiescent_step > 0) are not available in distributed runs yet");
     if (models_.size() == 1) group_.clear();
     if (!group_.empty()) {
       // Every particle at its own model's resting state.
@@ -98,7 +104,7 @@ class ReactionSystem {
       quiescent_.assign(blocks_.size(), 0);
       last_potential_.assign(n, static_cast<Real>(rest[0]));
       const auto V = particles_.field(fields_[0]);
-      std::copy(V.begin(), V.end(), last_potential_.begin());
+      std::copy(V.begin(), V.begin() + static_cast<std::ptrdiff_t>(n), last_potential_.begin());
     }
   }
 
@@ -118,6 +124,7 @@ class ReactionSystem {
       else advance_block(b, columns, stimulus, double(dt), 1.0);
     });
     check(columns, time + dt);
+    update_ghosts(particles_, columns[0]);
   }
 
   /// Blocks of at most lane_count cells (each cell group in blocks of its own).
@@ -198,25 +205,29 @@ class ReactionSystem {
   }
 
   void check(const std::array<std::span<Real>, n_states>& columns, Real time) const {
-    const std::size_t n = particles_.n_particles();
+    const std::size_t n = particles_.n_owned();
     const VoltageRange range = models_[0].valid_voltage();
     const std::size_t bad = first_index_where(n, [&](std::size_t i) {
       for (std::size_t k = 0; k < n_states; ++k)
         if (!std::isfinite(columns[k][i])) return true;
       return !(columns[0][i] >= range.lower && columns[0][i] <= range.upper);
     });
-    if (bad >= n) return;
+    // Collective in a distributed run: every rank names the lowest global id with a problem.
+    const auto first = first_over_ranks(particles_, bad);
+    if (!first.found) return;
+    const std::string where = NumericalFailure::format_position(first.position);
+    if (bad >= n || (particles_.partition() && particles_.partition()->global_id[bad] != first.id))
+      throw NumericalFailure(particles_.name(), first.id, where, time, std::string(M::state_names[0]),
+                             "or another state is not finite or outside the valid range of the cell model (on another rank)");
     std::ostringstream problem;
     for (std::size_t k = 0; k < n_states; ++k)
       if (!std::isfinite(columns[k][bad])) {
         problem << "is not finite";
-        throw NumericalFailure(particles_.name(), bad, NumericalFailure::format_position(particles_.position[bad]), time,
-                               std::string(M::state_names[k]), problem.str());
+        throw NumericalFailure(particles_.name(), first.id, where, time, std::string(M::state_names[k]), problem.str());
       }
     problem << "= " << columns[0][bad] << " lies outside the valid range [" << range.lower << ", " << range.upper
             << "] of the cell model (stimulus too strong or reaction step too large)";
-    throw NumericalFailure(particles_.name(), bad, NumericalFailure::format_position(particles_.position[bad]), time,
-                           std::string(M::state_names[0]), problem.str());
+    throw NumericalFailure(particles_.name(), first.id, where, time, std::string(M::state_names[0]), problem.str());
   }
 
   struct Block {

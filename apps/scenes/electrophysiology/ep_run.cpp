@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "libsph/core/distribution.hpp"
 #include "libsph/core/time_stepper.hpp"
 #include "libsph/io/run_harness.hpp"
 
@@ -57,11 +58,13 @@ EpTraces run_monodomain(cardio::Monodomain<Dim>& monodomain, sph::ParticleSet<Di
   for (std::size_t p = 0; p < probes.size(); ++p)
     columns.push_back((p < plan.probe_names.size() ? plan.probe_names[p] : "P" + std::to_string(p)) + "_potential");
   const double sample = plan.sample_interval > 0 ? plan.sample_interval : plan.end_time / 1000;
+  std::vector<sph::Real> whole_V;  // the probes lie on the whole body (a distributed run gathers V)
   run.add_time_series("observers.csv", columns, static_cast<sph::Real>(sample), [&](const sph::StepInfo& s) {
     std::vector<double> row;
     traces.time.push_back(s.time);
+    const auto V_all = sph::gather_all(body, std::span<const sph::Real>(V), whole_V);
     for (std::size_t p = 0; p < probes.size(); ++p) {
-      row.push_back(probes.sample(p, V));
+      row.push_back(probes.sample(p, V_all));
       traces.potential[p].push_back(row.back());
     }
     return row;
@@ -82,7 +85,8 @@ EpTraces run_monodomain(cardio::Monodomain<Dim>& monodomain, sph::ParticleSet<Di
   report.results["reaction_steps_taken"] = monodomain.reaction_steps_taken();
   if (monodomain.maps()) report.results["maps"] = ep_map_summary(monodomain);
   if (run.time_loop_seconds() > 0 && report.steps > 0)
-    report.results["particle_steps_per_second"] = double(report.steps) * double(body.n_particles()) / run.time_loop_seconds();
+    report.results["particle_steps_per_second"] =
+        double(report.steps) * double(body.partition() ? body.partition()->n_global : body.n_particles()) / run.time_loop_seconds();
   return traces;
 }
 

@@ -10,6 +10,7 @@
 #include "apps/scenes/electrophysiology/ep_scenes.hpp"
 #include "apps/scenes/solid/solid_run.hpp"
 #include "geometry/lattice.hpp"
+#include "libsph/core/distribution.hpp"
 
 namespace cardiosph {
 namespace {
@@ -58,12 +59,12 @@ class NiedererSlabScene final : public Scene {
       throw sph::ParameterError("parameter 'pacing' = " + p_.pacing.protocol + " needs the APD maps (apd_percent > 0)");
   }
   bool checkpoints() const override { return true; }
+  bool distributes() const override { return true; }
   void run(RunContext& ctx) override {
     const Real dx = Real(3) / static_cast<Real>(p_.resolution);
     auto body = geometry::lattice_box<3>("slab", Vec3(0, 0, 0), Vec3(20, 7, 3), dx);
     const auto kernel = sph::make_kernel<3>(p_.numerics.discretisation.kernel);
     const Real h = static_cast<Real>(p_.numerics.discretisation.smoothing_length_ratio) * dx;
-    const auto relation = sph::build_inner_relation<3>(body.position, kernel, h);
 
     // Monodomain conductivity: harmonic mean sigma_i sigma_e / (sigma_i + sigma_e), then D = sigma / (chi C_m).
     const auto [D_l, D_t] = p_.tissue.diffusivities();
@@ -77,6 +78,19 @@ class NiedererSlabScene final : public Scene {
     std::vector<std::size_t> stimulated;
     for (std::size_t i = 0; i < body.n_particles(); ++i)
       if ((body.position[i].array() < size).all()) stimulated.push_back(i);
+    const std::size_t n_stimulated = stimulated.size();
+    // The probes and the beat points lie on the whole body, which every rank built; a distributed
+    // run then keeps this rank's part (libsph/core/distribution.hpp) and stimulates its own particles.
+    const sph::PointProbes<3> probes(std::vector<Vec3>(points.begin(), points.end()), body.position, body.volume, kernel, h);
+    if (sph::Communicator::world().size() > 1) {
+      if (p_.numerics.apd_percent > 0)
+        throw sph::ParameterError("parameter 'apd_percent' > 0 (action potential maps) is not available in distributed runs yet");
+      sph::distribute(body, std::visit([h]<class K>(const K&) { return K::support_radius(h); }, kernel));
+      stimulated.clear();
+      for (std::size_t i = 0; i < body.n_owned(); ++i)
+        if ((body.position[i].array() < size).all()) stimulated.push_back(i);
+    }
+    const auto relation = sph::build_inner_relation<3>(body, kernel, h);
     const double strength = p_.tissue.stimulus_rate(p_.stimulus_current);  // mV/ms
     const PacingPlan pacing = pacing_plan(p_.pacing, p_.stimulus_duration, strength);
     settings.stimuli = {{"corner cube", stimulated, pacing.stimulus}};
@@ -84,7 +98,6 @@ class NiedererSlabScene final : public Scene {
     settings.repolarisation_percent = static_cast<Real>(p_.numerics.apd_percent);
     cardio::Monodomain<3> monodomain(body, relation, settings);
 
-    const sph::PointProbes<3> probes(std::vector<Vec3>(points.begin(), points.end()), body.position, body.volume, kernel, h);
     EpRunPlan plan("niederer-slab", p_.end_time, p_.numerics.discretisation.output_interval, 0.5,
                    {"P1", "P2", "P3", "P4", "P5", "P6", "P7", "P8", "P9"});
     plan.stop_when_all_activated = p_.stop_when_activated;
@@ -107,12 +120,13 @@ class NiedererSlabScene final : public Scene {
     if (beats) beats->finish(ctx.output_dir, pacing, p_.pacing.period, ctx.report);
 
     auto& r = ctx.report;
-    const auto activation = body.field(monodomain.activation_field());
+    std::vector<Real> whole_activation;
+    const auto activation = sph::gather_all(body, std::span<const Real>(body.field(monodomain.activation_field())), whole_activation);
     r.results["particle_spacing"] = dx;
     r.results["diffusivity_longitudinal"] = D_l;
     r.results["diffusivity_transverse"] = D_t;
     r.results["stimulus_rate"] = strength;
-    r.results["stimulated_particles"] = stimulated.size();
+    r.results["stimulated_particles"] = n_stimulated;
     r.results["activation_ms"] = nlohmann::json::object();
     for (std::size_t p = 0; p < probes.size(); ++p) {
       const bool activated = probes.all_sources(p, activation, [](Real a) { return a >= 0; });
