@@ -41,6 +41,8 @@ inline const std::set<std::string>& keys_that_measure_the_run() {
   static const std::set<std::string> keys{
       // The report itself (libsph/io/run_report.cpp), should a whole report be compared.
       "wall_time_s", "threads", "memory_bytes",
+      // The partition of a distributed run (ranks, owned and ghost particles).
+      "distribution",
       // The run harness (libsph/io/run_harness.cpp): seconds per timer and of the time loop, peak RSS.
       "seconds", "peak_rss_mb",
       // Electrophysiology (apps/scenes/electrophysiology/ep_run.cpp, ecg_output.cpp, cell.cpp) and the

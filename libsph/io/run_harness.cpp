@@ -2,7 +2,10 @@
 
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstring>
+#include <limits>
 
 #include <nlohmann/json.hpp>
 
@@ -91,6 +94,33 @@ bool RunHarness::checkpoint_after_step(const StepInfo& s) {
     write_checkpoint(options_.output_dir / checkpoint_file_name, checkpoint);
   });
   return stop;
+}
+
+void RunHarness::report_partition(const std::string& body, std::size_t owned, std::size_t ghosts, std::size_t neighbours) {
+  const std::size_t mine[3] = {owned, ghosts, neighbours};
+  std::vector<std::byte> bytes(sizeof(mine));
+  std::memcpy(bytes.data(), mine, sizeof(mine));
+  std::size_t owned_min = std::numeric_limits<std::size_t>::max(), owned_max = 0, ghosts_total = 0, ghosts_max = 0,
+              neighbours_max = 0, owned_total = 0;
+  for (const auto& part : Communicator::world().all_gather(bytes)) {
+    std::size_t r[3];
+    std::memcpy(r, part.data(), sizeof(r));
+    owned_min = std::min(owned_min, r[0]);
+    owned_max = std::max(owned_max, r[0]);
+    owned_total += r[0];
+    ghosts_total += r[1];
+    ghosts_max = std::max(ghosts_max, r[1]);
+    neighbours_max = std::max(neighbours_max, r[2]);
+  }
+  nlohmann::json d;
+  d["ranks"] = Communicator::world().size();
+  d["owned_min"] = owned_min;
+  d["owned_max"] = owned_max;
+  d["ghosts_total"] = ghosts_total;
+  d["ghosts_max"] = ghosts_max;
+  d["ghost_fraction"] = double(ghosts_total) / double(owned_total);
+  d["neighbour_ranks_max"] = neighbours_max;
+  report_.results["distribution"][body] = d;
 }
 
 void RunHarness::write_bodies(double time) {

@@ -128,6 +128,9 @@ class RunHarness {
 
  private:
   void write_bodies(double time);
+  /// Writes results.distribution.<body> (collective): owned particles per rank (min, max), ghosts
+  /// (total, largest per rank, as a fraction of the owned ones), neighbour ranks (largest).
+  void report_partition(const std::string& body, std::size_t owned, std::size_t ghosts, std::size_t neighbours);
   void save_or_load(StateArchive& archive);
   /// After a step: writes a checkpoint when one is due or asked for; true to stop the run there.
   bool checkpoint_after_step(const StepInfo& s);
@@ -172,6 +175,14 @@ void RunHarness::add_body(ParticleSet<Dim>& body, Real output_interval, std::fun
   if (interval > 0) stepper_.add_periodic_callback(interval, [write](const StepInfo& s) { write(double(s.time)); });
   else write(double(stepper_.start_time()));
   report_.particles.set(body.name(), body.partition() ? body.partition()->n_global : body.n_particles());
+  if (const auto* p = body.partition()) {
+    std::size_t neighbours = 0, halo = 0;
+    for (const auto& list : p->receive) {
+      neighbours += !list.empty();
+      halo += list.size();
+    }
+    report_partition(body.name(), p->n_owned, halo, neighbours);
+  }
   report_.memory_bytes.set(body.name() + "_fields", body.bytes_per_particle() * body.n_particles());
 }
 
