@@ -1,5 +1,5 @@
 // Distributed runs (libsph/core/distribution.hpp) write the bytes of a one-rank run: the diffusion
-// scenes on 2, 3 and 4 MPI ranks and the Niederer slab on 2, against the same scene without mpirun, every .vtu, .csv and .pvd
+// scenes on 2, 3 and 4 MPI ranks the Niederer slab on 2 and the Aliev-Panfilov depolarization on 3, against the same scene without mpirun, every .vtu, .csv and .pvd
 // file compared byte for byte and the report's results and errors compared as numbers. A scene
 // that does not distribute is refused under mpirun with exit code 2 and nothing written.
 #include <gtest/gtest.h>
@@ -79,6 +79,11 @@ TEST(DistributedRuns, NiedererSlabOnTwoRanksWritesTheBytesOfOneRank) {
   // Monodomain: ten Tusscher-Panfilov cells (owned particles, potentials of the ghosts from their
   // owners after each reaction half-step) and the distributed diffusion; dx = 0.5 mm, 3,360 particles.
   expect_same_as_one_rank("niederer-slab --set resolution=6 --set apd_percent=0", {2});
+}
+
+TEST(DistributedRuns, DepolarizationOnThreeRanksWritesTheBytesOfOneRank) {
+  // Aliev-Panfilov (dimensionless, 2D), the SPHinXsys depolarization case at 40 x 40 particles.
+  expect_same_as_one_rank("depolarization --set resolution=40", {3});
 }
 
 TEST(DistributedRuns, ASceneThatDoesNotDistributeIsRefused) {

@@ -6,6 +6,7 @@
 
 #include "apps/scenes/electrophysiology/ep_scenes.hpp"
 #include "geometry/lattice.hpp"
+#include "libsph/core/distribution.hpp"
 
 namespace cardiosph {
 namespace {
@@ -41,12 +42,16 @@ class DepolarizationScene final : public Scene {
     declare_ep_numerics(p, p_.numerics, "-");
   }
   bool checkpoints() const override { return true; }  // nothing kept outside the body and its traces
+  bool distributes() const override { return true; }
   void run(RunContext& ctx) override {
     const Real dp = Real(1) / static_cast<Real>(p_.resolution);
     auto body = geometry::lattice_box<2>("tissue", Vec2(0, 0), Vec2(1, 1), dp);
     const auto kernel = sph::make_kernel<2>(p_.numerics.discretisation.kernel);
     const Real h = static_cast<Real>(p_.numerics.discretisation.smoothing_length_ratio) * dp;
-    const auto relation = sph::build_inner_relation<2>(body.position, kernel, h);
+    // The observer lies on the whole body; a distributed run then keeps this rank's part.
+    const sph::PointProbes<2> probes({Vec2(0.3, 0.7)}, body.position, body.volume, kernel, h);
+    sph::distribute(body, std::visit([h]<class K>(const K&) { return K::support_radius(h); }, kernel));
+    const auto relation = sph::build_inner_relation<2>(body, kernel, h);
 
     sph::AlievPanfilov::Parameters ap;
     ap.k = p_.k;
@@ -69,7 +74,6 @@ class DepolarizationScene final : public Scene {
       V[i] = std::exp(Real(-4) * ((x[0] - 1) * (x[0] - 1) + x[1] * x[1]));
     }
 
-    const sph::PointProbes<2> probes({Vec2(0.3, 0.7)}, body.position, body.volume, kernel, h);
     EpRunPlan plan("depolarization", p_.end_time, p_.numerics.discretisation.output_interval, 0.01, {"observer"});
     const auto traces = run_monodomain<2>(monodomain, body, relation, probes, plan, ctx);
 
