@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <cstdlib>
 #include <cstdio>
 #include <iostream>
 
@@ -115,6 +116,11 @@ SceneRunResult run_scene(const std::string& scene_name, const CommonOptions& opt
                               "(--checkpoint-interval, --interrupt-at, --resume); scenes that can: " + can);
   }
   const sph::Communicator& world = sph::Communicator::world();
+  // A serial build started by mpirun would run the whole scene once per process into one folder.
+  for (const char* variable : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})
+    if (const char* ranks = std::getenv(variable); ranks && std::atoi(ranks) > 1 && !sph::Communicator::built_with_mpi())
+      throw sph::ParameterError(std::string("started on ") + ranks + " MPI ranks, but this build has no MPI (configure with "
+                                "OpenMPI and Zoltan: libopenmpi-dev openmpi-bin libtrilinos-zoltan-dev)");
   if (world.size() > 1) {
     if (!scene->distributes()) {
       std::string can;

@@ -143,9 +143,9 @@ void distribute(ParticleSet<Dim>& particles, Real ghost_radius, const Communicat
   std::vector<Index> owned;
   for (std::size_t g = 0; g < n; ++g)
     if (owner[g] == me) owned.push_back(static_cast<Index>(g));
-  if (owned.empty())
-    throw std::invalid_argument("particle set '" + particles.name() + "': rank " + std::to_string(me) +
-                                " was given no particles; run on fewer ranks");
+  if (comm.any(owned.empty()))  // every rank throws, so that none waits for the others
+    throw std::invalid_argument("particle set '" + particles.name() + "' of " + std::to_string(n) +
+                                " particles: a rank was given no particles by the partition; run on fewer ranks");
 
   // Ghosts: other ranks' particles within the ghost radius of an owned one; and what each rank q
   // holds of ours (the same distance test seen from q's side, so both sides list the same pairs).
