@@ -1,7 +1,9 @@
 // Distributed runs (libsph/core/distribution.hpp) write the bytes of a one-rank run: the diffusion
-// scenes on 2, 3 and 4 MPI ranks the Niederer slab on 2 and the Aliev-Panfilov depolarization on 3, against the same scene without mpirun, every .vtu, .csv and .pvd
-// file compared byte for byte and the report's results and errors compared as numbers. A scene
-// that does not distribute is refused under mpirun with exit code 2 and nothing written.
+// scenes on 2, 3 and 4 MPI ranks, the Niederer slab on 2, the Aliev-Panfilov depolarization on 3
+// and the myocardium cube (TLSPH) on 2 and 3, against the same scene without mpirun, every .vtu,
+// .csv and .pvd file compared byte for byte and the report's results and errors compared as
+// numbers; a solid's numerical failure on 2 ranks names the particle of one rank. A scene that does
+// not distribute is refused under mpirun with exit code 2 and nothing written.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -84,6 +86,46 @@ TEST(DistributedRuns, NiedererSlabOnTwoRanksWritesTheBytesOfOneRank) {
 TEST(DistributedRuns, DepolarizationOnThreeRanksWritesTheBytesOfOneRank) {
   // Aliev-Panfilov (dimensionless, 2D), the SPHinXsys depolarization case at 40 x 40 particles.
   expect_same_as_one_rank("depolarization --set resolution=40", {3});
+}
+
+TEST(DistributedRuns, MyocardiumCubeOnTwoRanksWritesTheBytesOfOneRank) {
+  // TLSPH with active stress (Holzapfel-Ogden, prescribed tension, sliding holder): ghosts keep their
+  // reference neighbours; positions and F, P B0 exchanged each step; 1,200 particles.
+  expect_same_as_one_rank("myocardium-cube --set resolution=10 --set end_time=0.6 --set ramp_time=0.3 --set output_interval=0.3", {2});
+}
+
+TEST(DistributedRuns, MyocardiumCubeWithPairViscosityOnThreeRanksWritesTheBytesOfOneRank) {
+  // The SPHinXsys settings: pair viscosity (the ghosts' start velocities exchanged too), no hourglass
+  // control, the small-strain time step.
+  expect_same_as_one_rank("myocardium-cube --set preset=sphinxsys --set resolution=10 --set end_time=0.3 --set ramp_time=0.3", {3});
+}
+
+TEST(DistributedRuns, ASolidFailureNamesTheParticleOfOneRankAndWritesItsLastGoodState) {
+  // A time step far above the stable one inverts the cube: every rank stops at the same step, the
+  // message names the particle (global id) and time of a one-rank run, and the last good state
+  // written is the same.
+  const test::TemporaryFolder folder("distributed");
+  const std::string arguments = "myocardium-cube --set resolution=10 --set end_time=0.6 --set ramp_time=0.3 --set fixed_time_step=0.01";
+  const fs::path one = folder.path() / "one", two = folder.path() / "two";
+  const fs::path err_one = folder.path() / "err1.txt", err_two = folder.path() / "err2.txt";
+  ASSERT_EQ(run(0, arguments + " --output " + one.string(), err_one), 1) << test::bytes_of(err_one);
+  ASSERT_EQ(run(2, arguments + " --output " + two.string(), err_two), 1) << test::bytes_of(err_two);
+  auto failure_line = [](const std::string& text) {
+    const auto at = text.find("numerical failure");
+    return at == std::string::npos ? std::string() : text.substr(at, text.find('\n', at) - at);
+  };
+  const std::string message = failure_line(test::bytes_of(err_one));
+  ASSERT_NE(message.find("particle"), std::string::npos) << test::bytes_of(err_one);
+  EXPECT_EQ(failure_line(test::bytes_of(err_two)), message);
+  const auto reference = files_of(one), files = files_of(two);
+  ASSERT_GE(reference.size(), 2u);
+  EXPECT_EQ(files.size(), reference.size());
+  for (const auto& [name, content] : reference) {
+    const auto other = files.find(name);
+    ASSERT_NE(other, files.end()) << name << " is missing on 2 ranks";
+    EXPECT_TRUE(content == other->second) << name << " differs between 1 and 2 ranks";
+  }
+  std::printf("[ measured ] on 1 and 2 ranks: %s\n", message.c_str());
 }
 
 TEST(DistributedRuns, ASceneThatDoesNotDistributeIsRefused) {

@@ -28,6 +28,7 @@ const void* Communicator::native_handle() const { return &world_comm; }
 
 double Communicator::min(double value) const {
   if (size_ == 1) return value;
+  ++traffic_.collectives;
   double out;
   MPI_Allreduce(&value, &out, 1, MPI_DOUBLE, MPI_MIN, comm_of(*this));
   return out;
@@ -35,6 +36,7 @@ double Communicator::min(double value) const {
 
 double Communicator::max(double value) const {
   if (size_ == 1) return value;
+  ++traffic_.collectives;
   double out;
   MPI_Allreduce(&value, &out, 1, MPI_DOUBLE, MPI_MAX, comm_of(*this));
   return out;
@@ -42,6 +44,7 @@ double Communicator::max(double value) const {
 
 unsigned long long Communicator::min(unsigned long long value) const {
   if (size_ == 1) return value;
+  ++traffic_.collectives;
   unsigned long long out;
   MPI_Allreduce(&value, &out, 1, MPI_UNSIGNED_LONG_LONG, MPI_MIN, comm_of(*this));
   return out;
@@ -49,6 +52,7 @@ unsigned long long Communicator::min(unsigned long long value) const {
 
 bool Communicator::any(bool flag) const {
   if (size_ == 1) return flag;
+  ++traffic_.collectives;
   int in = flag ? 1 : 0, out = 0;
   MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_MAX, comm_of(*this));
   return out != 0;
@@ -60,6 +64,7 @@ void Communicator::exchange(const std::vector<std::vector<std::byte>>& send,
     if (!send.empty() && !receive.empty()) receive[0] = send[0];
     return;
   }
+  ++traffic_.exchanges;
   std::vector<MPI_Request> requests;
   requests.reserve(2 * static_cast<std::size_t>(size_));
   for (int q = 0; q < size_; ++q) {
@@ -71,6 +76,8 @@ void Communicator::exchange(const std::vector<std::vector<std::byte>>& send,
   for (int q = 0; q < size_; ++q) {
     const auto& buffer = send[static_cast<std::size_t>(q)];
     if (buffer.empty()) continue;
+    ++traffic_.messages;
+    traffic_.bytes += buffer.size();
     requests.emplace_back();
     MPI_Isend(buffer.data(), static_cast<int>(buffer.size()), MPI_BYTE, q, 7, comm_of(*this), &requests.back());
   }
@@ -79,6 +86,7 @@ void Communicator::exchange(const std::vector<std::vector<std::byte>>& send,
 
 std::vector<std::vector<std::byte>> Communicator::all_gather(const std::vector<std::byte>& local) const {
   if (size_ == 1) return {local};
+  ++traffic_.collectives;
   const int n = static_cast<int>(local.size());
   std::vector<int> counts(static_cast<std::size_t>(size_)), offsets(static_cast<std::size_t>(size_), 0);
   MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_of(*this));
@@ -93,6 +101,7 @@ std::vector<std::vector<std::byte>> Communicator::all_gather(const std::vector<s
 
 std::vector<std::vector<std::byte>> Communicator::gather(const std::vector<std::byte>& local) const {
   if (size_ == 1) return {local};
+  ++traffic_.collectives;
   const int n = static_cast<int>(local.size());
   std::vector<int> counts(static_cast<std::size_t>(size_)), offsets(static_cast<std::size_t>(size_), 0);
   MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm_of(*this));
@@ -107,7 +116,9 @@ std::vector<std::vector<std::byte>> Communicator::gather(const std::vector<std::
 }
 
 void Communicator::barrier() const {
-  if (size_ > 1) MPI_Barrier(comm_of(*this));
+  if (size_ == 1) return;
+  ++traffic_.collectives;
+  MPI_Barrier(comm_of(*this));
 }
 
 MpiSession::MpiSession(int& argc, char**& argv) {

@@ -42,11 +42,19 @@ class Communicator {
   /// The MPI communicator (an MPI_Comm) for libraries that take one (Zoltan); only with MPI.
   const void* native_handle() const;
 
+  /// What this rank has sent since the start: halo exchanges (calls of exchange), the point-to-point
+  /// messages and bytes they sent, and collective operations (reductions, gathers, barriers).
+  struct Traffic {
+    unsigned long long exchanges = 0, messages = 0, bytes = 0, collectives = 0;
+  };
+  const Traffic& traffic() const { return traffic_; }
+
  private:
   Communicator() = default;
   static Communicator& mutable_world();
   int rank_ = 0;
   int size_ = 1;
+  mutable Traffic traffic_;  // (MPI is called from one thread only)
   friend class MpiSession;
 };
 

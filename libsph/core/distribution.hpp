@@ -37,23 +37,28 @@ const Communicator* communicator_of(const ParticleSet<Dim>& particles) {
   return particles.partition() ? &Communicator::world() : nullptr;
 }
 
-/// Copies the values of the owned particles into the ghosts that other ranks hold of them.
-template <int Dim, class T>
-void update_ghosts(const ParticleSet<Dim>& particles, std::span<T> values) {
+/// Copies the values of the owned particles into the ghosts that other ranks hold of them; with
+/// several fields, all of them in one message per neighbouring rank.
+template <int Dim, class... T>
+void update_ghosts(const ParticleSet<Dim>& particles, std::span<T>... values) {
   const Partition<Dim>* p = particles.partition();
   if (!p) return;
+  constexpr std::size_t bytes = (sizeof(T) + ...);
   const std::size_t ranks = p->send.size();
   std::vector<std::vector<std::byte>> send(ranks), receive(ranks);
   for (std::size_t q = 0; q < ranks; ++q) {
-    send[q].resize(p->send[q].size() * sizeof(T));
-    for (std::size_t k = 0; k < p->send[q].size(); ++k)
-      std::memcpy(send[q].data() + k * sizeof(T), &values[p->send[q][k]], sizeof(T));
-    receive[q].resize(p->receive[q].size() * sizeof(T));
+    send[q].resize(p->send[q].size() * bytes);
+    std::byte* at = send[q].data();
+    for (const Index i : p->send[q])
+      ((std::memcpy(at, &values[i], sizeof(T)), at += sizeof(T)), ...);
+    receive[q].resize(p->receive[q].size() * bytes);
   }
   Communicator::world().exchange(send, receive);
-  for (std::size_t q = 0; q < ranks; ++q)
-    for (std::size_t k = 0; k < p->receive[q].size(); ++k)
-      std::memcpy(static_cast<void*>(&values[p->receive[q][k]]), receive[q].data() + k * sizeof(T), sizeof(T));
+  for (std::size_t q = 0; q < ranks; ++q) {
+    const std::byte* at = receive[q].data();
+    for (const Index i : p->receive[q])
+      ((std::memcpy(static_cast<void*>(&values[i]), at, sizeof(T)), at += sizeof(T)), ...);
+  }
 }
 
 /// The smallest `value` over the ranks of a distributed set (the value itself otherwise).
@@ -61,6 +66,13 @@ template <int Dim>
 Real global_min(const ParticleSet<Dim>& particles, Real value) {
   const Communicator* comm = communicator_of(particles);
   return comm ? static_cast<Real>(comm->min(double(value))) : value;
+}
+
+/// The largest `value` over the ranks of a distributed set (the value itself otherwise).
+template <int Dim>
+Real global_max(const ParticleSet<Dim>& particles, Real value) {
+  const Communicator* comm = communicator_of(particles);
+  return comm ? static_cast<Real>(comm->max(double(value))) : value;
 }
 
 /// The values of the owned particles of every rank in global-id order, on every rank (the whole

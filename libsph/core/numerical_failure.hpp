@@ -17,6 +17,12 @@ class NumericalFailure : public std::runtime_error {
                    const std::string& quantity, const std::string& problem)
       : std::runtime_error(compose(body, particle, position, time, quantity, problem)) {}
 
+  /// A number as the messages show it (6 significant digits).
+  static std::string format_value(double value) {
+    std::ostringstream s;
+    s << value;
+    return s.str();
+  }
   template <class VecT>
   static std::string format_position(const VecT& x) {
     std::ostringstream s;

@@ -96,6 +96,37 @@ bool RunHarness::checkpoint_after_step(const StepInfo& s) {
   return stop;
 }
 
+void RunHarness::report_traffic(const Communicator::Traffic& before) {
+  const Communicator& comm = Communicator::world();
+  if (comm.size() == 1) return;
+  const Communicator::Traffic& now = comm.traffic();
+  const unsigned long long mine[4] = {now.exchanges - before.exchanges, now.messages - before.messages,
+                                      now.bytes - before.bytes, now.collectives - before.collectives};
+  std::vector<std::byte> bytes(sizeof(mine));
+  std::memcpy(bytes.data(), mine, sizeof(mine));
+  unsigned long long exchanges = 0, collectives = 0, messages_max = 0, messages_total = 0, bytes_max = 0, bytes_total = 0;
+  for (const auto& part : comm.all_gather(bytes)) {
+    unsigned long long r[4];
+    std::memcpy(r, part.data(), sizeof(r));
+    exchanges = std::max(exchanges, r[0]);
+    messages_max = std::max(messages_max, r[1]);
+    messages_total += r[1];
+    bytes_max = std::max(bytes_max, r[2]);
+    bytes_total += r[2];
+    collectives = std::max(collectives, r[3]);
+  }
+  const double steps = double(std::max<std::size_t>(report_.steps, 1));
+  nlohmann::json t;
+  t["steps"] = report_.steps;
+  t["halo_exchanges_per_step"] = double(exchanges) / steps;
+  t["messages_per_step_max"] = double(messages_max) / steps;  // sent by the busiest rank
+  t["messages_per_step_total"] = double(messages_total) / steps;
+  t["bytes_per_step_max"] = double(bytes_max) / steps;
+  t["bytes_per_step_total"] = double(bytes_total) / steps;
+  t["collectives_per_step"] = double(collectives) / steps;
+  report_.results["distribution"]["traffic"] = t;
+}
+
 void RunHarness::report_partition(const std::string& body, std::size_t owned, std::size_t ghosts, std::size_t neighbours) {
   const std::size_t mine[3] = {owned, ghosts, neighbours};
   std::vector<std::byte> bytes(sizeof(mine));
@@ -142,6 +173,7 @@ std::size_t RunHarness::run() {
   if (plan.enabled) stepper_.set_interruption_check([this](const StepInfo& s) { return checkpoint_after_step(s); });
   progress_ = std::make_unique<Progress>(options_.label, options_.quiet || !writes_files_);
   report_.simulated_time = double(stepper_.end_time());
+  const Communicator::Traffic traffic_before = Communicator::world().traffic();
   loop_start_ = std::chrono::steady_clock::now();
   const auto start = loop_start_;
   auto finish = [&] {
@@ -164,6 +196,7 @@ std::size_t RunHarness::run() {
     throw;
   }
   finish();
+  report_traffic(traffic_before);
   for (auto& s : series_)
     if (s) s->close();
   if (stepper_.interrupted()) {

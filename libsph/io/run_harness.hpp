@@ -131,6 +131,10 @@ class RunHarness {
   /// Writes results.distribution.<body> (collective): owned particles per rank (min, max), ghosts
   /// (total, largest per rank, as a fraction of the owned ones), neighbour ranks (largest).
   void report_partition(const std::string& body, std::size_t owned, std::size_t ghosts, std::size_t neighbours);
+  /// Writes results.distribution.traffic (collective, several ranks only): what the time loop sent
+  /// since `before` per macro step (output and sampling included): halo exchanges, messages and
+  /// bytes (the busiest rank's and all ranks'), collective operations.
+  void report_traffic(const Communicator::Traffic& before);
   void save_or_load(StateArchive& archive);
   /// After a step: writes a checkpoint when one is due or asked for; true to stop the run there.
   bool checkpoint_after_step(const StepInfo& s);

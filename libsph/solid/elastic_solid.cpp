@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "libsph/core/distribution.hpp"
 #include "libsph/core/numerical_failure.hpp"
 #include "libsph/core/parallel.hpp"
 #include "libsph/io/parameters.hpp"
@@ -41,8 +42,11 @@ template <int Dim>
 ElasticSolid<Dim>::ElasticSolid(ParticleSet<Dim>& particles, const InnerRelation<Dim>& relation, Settings settings)
     : particles_(particles), relation_(relation), settings_(std::move(settings)) {
   const std::string body = "solid '" + particles_.name() + "'";
-  if (relation_.n_targets() != particles_.n_particles())
+  if (relation_.n_targets() != particles_.n_owned())
     throw std::invalid_argument(body + ": relation does not match the particles");
+  if (particles_.partition() && settings_.numerics.deformation_gradient == DeformationGradient::quadratic)
+    throw std::invalid_argument(body + ": deformation_gradient 'quadratic' does not run on several ranks (its force needs "
+                                "the fit weights of the ghosts' own neighbourhoods, a second ring of ghosts); use 'corrected'");
   if (!(settings_.density > 0)) throw std::invalid_argument(body + ": density must be positive");
   if (!(settings_.numerics.cfl > 0 && settings_.numerics.cfl <= 1)) throw std::invalid_argument(body + ": cfl must lie in (0, 1]");
   if (!(settings_.numerics.hourglass_coefficient >= 0)) throw std::invalid_argument(body + ": hourglass coefficient must be >= 0");
@@ -64,6 +68,7 @@ ElasticSolid<Dim>::ElasticSolid(ParticleSet<Dim>& particles, const InnerRelation
                         relation_.smoothing_length * Real(Dim * Dim) / (4 * relation_.kernel_value_at_zero);
 
   const std::size_t n = particles_.n_particles();
+  const std::size_t owned = particles_.n_owned();  // (the ghosts' B0 enters through their owners' P B0)
   reference_position_ = particles_.template register_field<Vec<Dim>>("reference_position", Vec<Dim>::Zero(), false);
   std::copy(particles_.position.begin(), particles_.position.end(), particles_.field(reference_position_).begin());
   velocity_ = particles_.template register_field<Vec<Dim>>("velocity", Vec<Dim>::Zero());
@@ -113,7 +118,7 @@ ElasticSolid<Dim>::ElasticSolid(ParticleSet<Dim>& particles, const InnerRelation
     const auto X = particles_.field(reference_position_);
     const auto& V = particles_.volume;
     auto B = particles_.field(correction_matrix_);
-    parallel_for(n, [&](std::size_t i) {
+    parallel_for(owned, [&](std::size_t i) {
       Mat<Dim> moment = Mat<Dim>::Zero();
       for (const auto [k, j] : rel.row(i))
         moment.noalias() -= (V[j] * (X[i] - X[j])) * pair_gradient_[k].vector().template cast<Real>().transpose();
@@ -124,7 +129,7 @@ ElasticSolid<Dim>::ElasticSolid(ParticleSet<Dim>& particles, const InnerRelation
   if (energy_hourglass_) {
     const auto& V = particles_.volume;
     hourglass_moment_.resize(n);
-    parallel_for(n, [&](std::size_t i) {
+    parallel_for(owned, [&](std::size_t i) {
       Mat<Dim> M = Mat<Dim>::Zero();
       for (const auto [k, j] : rel.row(i)) {
         const Vec<Dim> X_ij = pair_offset_[k].template cast<Real>();
@@ -312,6 +317,9 @@ void ElasticSolid<Dim>::clamp(std::vector<Index> particles) {
 template <int Dim>
 void ElasticSolid<Dim>::clamp_by_reflection(std::vector<Index> particles, const Vec<Dim>& point, const Vec<Dim>& normal) {
   check_indices(particles, "clamp by reflection");
+  if (particles_.partition())
+    throw std::invalid_argument("solid '" + particles_.name() + "': a clamp by reflection does not run on several ranks (a "
+                                "held particle's mirror may lie on another rank); use a fixed clamp");
   if (!(normal.norm() > 0) || !normal.allFinite() || !point.allFinite())
     throw std::invalid_argument("solid '" + particles_.name() + "': clamp by reflection needs a finite point and a non-zero normal");
   const std::size_t n = particles_.n_particles();
@@ -386,11 +394,12 @@ FieldHandle<Vec<Dim>> ElasticSolid<Dim>::external_force_field() {
 
 template <int Dim>
 void ElasticSolid<Dim>::compute_deformation_gradient() {
+  update_ghosts(particles_, std::span<Vec<Dim>>(particles_.position));  // the ghosts as their owners left them
   const auto& x = particles_.position;
   const auto& V = particles_.volume;
   const auto B = particles_.field(correction_matrix_);
   auto F = particles_.field(deformation_gradient_);
-  parallel_for(particles_.n_particles(), [&](std::size_t i) { F[i] = deformation_gradient_of(i, x, V, B); });
+  parallel_for(particles_.n_owned(), [&](std::size_t i) { F[i] = deformation_gradient_of(i, x, V, B); });
 }
 
 template <int Dim>
@@ -461,7 +470,7 @@ std::size_t ElasticSolid<Dim>::compute_deformation_and_stress() {
   const auto B = particles_.field(correction_matrix_);
   auto F = particles_.field(deformation_gradient_);
   auto PB = particles_.field(stress_correction_);
-  const std::size_t n = particles_.n_particles();
+  const std::size_t n = particles_.n_owned();
   const bool gauss = !pair_curvature_.empty();
   const auto points = cell_quadrature_points<Dim>();
   return std::visit(
@@ -542,7 +551,7 @@ void ElasticSolid<Dim>::update_current_sound_speed() {
   const bool anisotropic = fibre_.valid();
   const Real largest = std::visit(
       [&](const auto& law) {
-        return parallel_max(F.size(), Real(0), [&](std::size_t i) {
+        return parallel_max(particles_.n_owned(), Real(0), [&](std::size_t i) {
           const Vec<Dim> f = anisotropic ? particles_.field(fibre_)[i] : Vec<Dim>::Zero();
           const Vec<Dim> s = anisotropic ? particles_.field(sheet_)[i] : Vec<Dim>::Zero();
           const Mat<Dim> P = first_piola<Dim>(law, F[i], f, s);
@@ -560,7 +569,7 @@ void ElasticSolid<Dim>::update_current_sound_speed() {
         });
       },
       settings_.material);
-  current_sound_speed_ = std::max(sound_speed_, std::sqrt(largest * inverse_inertia_));
+  current_sound_speed_ = std::max(sound_speed_, std::sqrt(global_max(particles_, largest) * inverse_inertia_));
 }
 
 template <int Dim>
@@ -682,7 +691,7 @@ typename ElasticSolid<Dim>::StepCheck ElasticSolid<Dim>::accelerations(Real time
   const auto PB = particles_.field(stress_correction_);
   const bool loads = !(pressure_loads_.empty() && !external_force_.valid() && traction_loads_.empty());
   const Vec<Dim> g = settings_.body_force * (1 / settings_.numerics.mass_scaling);
-  const std::size_t n = particles_.n_particles();
+  const std::size_t n = particles_.n_owned();
   const bool reflections = !reflected_.empty();
   auto run = [&]<bool Quadratic, int Hourglass, bool Viscous>() {
     if (reflections) {  // the force on a reflected particle acts on its mirror, reversed (u' = -u)
@@ -748,14 +757,25 @@ void ElasticSolid<Dim>::apply_velocity_constraints(Real time) {
 }
 
 template <int Dim>
-void ElasticSolid<Dim>::fail(std::size_t particle, Real time, const std::string& quantity, const std::string& problem) {
-  // Undo the step: the particle set is left in the last good state, consistent with its F.
-  const std::string where = NumericalFailure::format_position(particles_.position[particle]);
-  std::copy(previous_position_.begin(), previous_position_.end(), particles_.position.begin());
+void ElasticSolid<Dim>::fail(const GlobalParticle<Dim>& particle, Real time, const std::string& quantity, const std::string& problem) {
+  // Undo the step on every rank: the particle set is left in the last good state, consistent with its F.
+  const std::size_t owned = particles_.n_owned();
+  std::copy_n(previous_position_.begin(), owned, particles_.position.begin());
   const auto v = particles_.field(velocity_);
-  std::copy(previous_velocity_.begin(), previous_velocity_.end(), v.begin());
+  std::copy_n(previous_velocity_.begin(), owned, v.begin());
   update_output_fields();
-  throw NumericalFailure(particles_.name(), particle, where, time, quantity, problem);
+  throw NumericalFailure(particles_.name(), particle.id, NumericalFailure::format_position(particle.position), time, quantity, problem);
+}
+
+template <int Dim>
+double ElasticSolid<Dim>::value_at(const GlobalParticle<Dim>& particle, std::size_t local, double value) const {
+  const Partition<Dim>* p = particles_.partition();
+  if (!p) return value;
+  const bool mine = local < p->n_owned && p->global_id[local] == particle.id;
+  // (a non-finite value travels as the largest double, which no finite quantity here reaches)
+  const double sent = mine ? (std::isfinite(value) ? value : std::numeric_limits<double>::max()) : -std::numeric_limits<double>::infinity();
+  const double got = Communicator::world().max(sent);
+  return got == std::numeric_limits<double>::max() ? std::numeric_limits<double>::quiet_NaN() : got;
 }
 
 template <int Dim>
@@ -773,12 +793,15 @@ void ElasticSolid<Dim>::half_drift(Real time, Real dt) {
   auto& x = particles_.position;
   auto v = particles_.field(velocity_);
   const Real half = dt / 2;
-  parallel_for(particles_.n_particles(), [&](std::size_t i) {
+  parallel_for(particles_.n_owned(), [&](std::size_t i) {
     previous_position_[i] = x[i];
     previous_velocity_[i] = v[i];
     x[i] += half * v[i];
   });
   apply_position_constraints(time + half);
+  // Distributed: the ghosts' mid-step positions (and start velocities, read by the pair viscosity).
+  if (viscosity_factor_ > 0) update_ghosts(particles_, std::span<Vec<Dim>>(x), std::span<Vec<Dim>>(previous_velocity_));
+  else update_ghosts(particles_, std::span<Vec<Dim>>(x));
 }
 
 template <int Dim>
@@ -786,13 +809,15 @@ void ElasticSolid<Dim>::deformation_and_stress(Real time, Real dt) {
   // Two passes over the pairs in a step: this one (F and the stress), then the forces with the
   // velocity update (kick_and_drift).
   const Real half = dt / 2;
-  if (const std::size_t bad = compute_deformation_and_stress(); bad < particles_.n_particles()) {
-    const Real J = particles_.field(deformation_gradient_)[bad].determinant();
+  const std::size_t bad = compute_deformation_and_stress();
+  if (const auto first = first_over_ranks(particles_, bad); first.found) {
+    const double J = value_at(first, bad, bad < particles_.n_owned() ? double(particles_.field(deformation_gradient_)[bad].determinant()) : 0.0);
     const std::string problem = !std::isfinite(J) ? "is not finite"
-                                : J > 0 ? "is inverted at a Gauss point of the particle's cell (J = " + std::to_string(J) + " at the particle)"
-                                        : "has J = " + std::to_string(J) + " <= 0 (inverted)";
-    fail(bad, time + half, "deformation gradient", problem);
+                                : J > 0 ? "is inverted at a Gauss point of the particle's cell (J = " + NumericalFailure::format_value(J) + " at the particle)"
+                                        : "has J = " + NumericalFailure::format_value(J) + " <= 0 (inverted)";
+    fail(first, time + half, "deformation gradient", problem);
   }
+  update_ghosts(particles_, particles_.field(deformation_gradient_), particles_.field(stress_correction_));
   if (steps_++ % static_cast<std::size_t>(settings_.numerics.stiffness_update_interval) == 0 &&
       settings_.numerics.tangent_time_step)
     update_current_sound_speed();
@@ -807,7 +832,7 @@ void ElasticSolid<Dim>::kick_and_drift(Real time, Real dt) {
   auto& x = particles_.position;
   auto v = particles_.field(velocity_);
   auto a = particles_.field(acceleration_);
-  const std::size_t n = particles_.n_particles();
+  const std::size_t n = particles_.n_owned();
   const Real half = dt / 2;
   const Real damping = 1 / (1 + settings_.damping_rate * dt);
   const StepCheck check = accelerations(time + half, [&](std::size_t i, const Vec<Dim>& a_i) {
@@ -815,21 +840,22 @@ void ElasticSolid<Dim>::kick_and_drift(Real time, Real dt) {
     v[i] = (v[i] + dt * a_i) * damping;
     return a_i.allFinite() && v[i].allFinite();
   });
-  if (check.first_bad < n) {
+  if (const auto first = first_over_ranks(particles_, check.first_bad); first.found) {
     const std::size_t bad = check.first_bad;
-    fail(bad, time + dt, a[bad].allFinite() ? "velocity" : "acceleration", "is not finite");
+    const bool acceleration_finite = value_at(first, bad, bad < n && a[bad].allFinite() ? 1.0 : 0.0) > 0;
+    fail(first, time + dt, acceleration_finite ? "velocity" : "acceleration", "is not finite");
   }
   apply_velocity_constraints(time + dt);
   parallel_for(n, [&](std::size_t i) { x[i] += half * v[i]; });
   apply_position_constraints(time + dt);
-  max_acceleration_ = check.max_acceleration;
+  max_acceleration_ = global_max(particles_, check.max_acceleration);
 }
 
 template <int Dim>
 Real ElasticSolid<Dim>::stable_time_step() const {
   if (settings_.numerics.fixed_time_step > 0) return settings_.numerics.fixed_time_step;
   const auto v = particles_.field(velocity_);
-  const Real max_speed = parallel_max(v.size(), Real(0), [&](std::size_t i) { return v[i].norm(); });
+  const Real max_speed = global_max(particles_, parallel_max(particles_.n_owned(), Real(0), [&](std::size_t i) { return v[i].norm(); }));
   const Real h = relation_.smoothing_length;
   Real dt = h / (current_sound_speed_ + max_speed);
   if (max_acceleration_ > 0) dt = std::min(dt, std::sqrt(h / max_acceleration_));
@@ -864,7 +890,7 @@ void ElasticSolid<Dim>::update_output_fields() {
   auto u = particles_.field(displacement_);
   auto J = particles_.field(jacobian_);
   auto von_mises = particles_.field(von_mises_);
-  parallel_for(particles_.n_particles(), [&](std::size_t i) {
+  parallel_for(particles_.n_owned(), [&](std::size_t i) {
     u[i] = particles_.position[i] - X[i];
     J[i] = F[i].determinant();
     const Mat<Dim> sigma = cauchy_stress_of(i);
@@ -879,7 +905,7 @@ void ElasticSolid<Dim>::update_output_fields() {
   if (fibre_stretch_.valid()) {
     const auto f = particles_.field(fibre_);
     auto stretch = particles_.field(fibre_stretch_);
-    parallel_for(particles_.n_particles(), [&](std::size_t i) { stretch[i] = (F[i] * f[i]).norm(); });
+    parallel_for(particles_.n_owned(), [&](std::size_t i) { stretch[i] = (F[i] * f[i]).norm(); });
   }
 }
 
@@ -891,13 +917,13 @@ typename ElasticSolid<Dim>::Energies ElasticSolid<Dim>::energies() {
   const auto& V = particles_.volume;
   Energies e;
   const auto rigid = [&](std::size_t i) { return !rigid_.empty() && rigid_[i]; };
-  e.kinetic = parallel_sum(v.size(), 0.0, [&](std::size_t i) {
+  // Sums over the particles in global-id order (the same for any rank count).
+  e.kinetic = global_sum(particles_, [&](std::size_t i) {
     return rigid(i) ? 0.0 : 0.5 / inverse_inertia_ * V[i] * v[i].squaredNorm();
   });
   std::visit(
       [&](const auto& law) {
-        using Law = std::decay_t<decltype(law)>;
-        e.strain = parallel_sum(F.size(), 0.0, [&](std::size_t i) {
+        e.strain = global_sum(particles_, [&](std::size_t i) {
           return rigid(i) ? 0.0 : double(V[i] * cell_energy(i, law, F[i], particles_.position));
         });
       },
@@ -905,7 +931,7 @@ typename ElasticSolid<Dim>::Energies ElasticSolid<Dim>::energies() {
   if (energy_hourglass_) {  // alpha E / 4 sum_i sum_j V_i V_j W_ij / r0^2 |F_i X_ij - x_ij|^2
     const auto& rel = relation_;
     const auto& x = particles_.position;
-    e.hourglass = hourglass_factor_ / 2 * parallel_sum(F.size(), 0.0, [&](std::size_t i) {
+    e.hourglass = hourglass_factor_ / 2 * global_sum(particles_, [&](std::size_t i) {
       double sum = 0;
       for (const auto [k, j] : rel.row(i)) {
         const Vec<Dim> X_ij = pair_offset_[k].template cast<Real>();
@@ -916,9 +942,9 @@ typename ElasticSolid<Dim>::Energies ElasticSolid<Dim>::energies() {
   }
   // The J range of the body (the particles of a clamp by reflection carry a mirrored F).
   const Real inf = std::numeric_limits<Real>::infinity();
-  e.min_jacobian = parallel_reduce(F.size(), inf, [&](std::size_t i) { return rigid(i) ? inf : F[i].determinant(); },
-                                   [](Real p, Real q) { return std::min(p, q); });
-  e.max_jacobian = parallel_max(F.size(), -inf, [&](std::size_t i) { return rigid(i) ? -inf : F[i].determinant(); });
+  const std::size_t owned = particles_.n_owned();
+  e.min_jacobian = -global_max(particles_, parallel_max(owned, -inf, [&](std::size_t i) { return rigid(i) ? -inf : -F[i].determinant(); }));
+  e.max_jacobian = global_max(particles_, parallel_max(owned, -inf, [&](std::size_t i) { return rigid(i) ? -inf : F[i].determinant(); }));
   return e;
 }
 
@@ -931,17 +957,19 @@ typename ElasticSolid<Dim>::Residual ElasticSolid<Dim>::equilibrium_residual(Rea
     for (const Index i : set) constrained[i] = 1;
   for (const auto& motion : prescribed_)
     for (const Index i : motion.particles) constrained[i] = 1;
+  update_ghosts(particles_, std::span<Vec<Dim>>(particles_.position));
   compute_deformation_and_stress();
+  update_ghosts(particles_, particles_.field(deformation_gradient_), particles_.field(stress_correction_));
   compute_acceleration(time);
   const auto a = particles_.field(acceleration_);
   const auto& V = particles_.volume;
   Residual r;
-  r.net = std::sqrt(parallel_sum(n, 0.0, [&](std::size_t i) {
+  r.net = std::sqrt(global_sum(particles_, [&](std::size_t i) {
     return constrained[i] ? 0.0 : double((V[i] / inverse_inertia_ * a[i]).squaredNorm());
   }));
   const bool loads = !(pressure_loads_.empty() && !external_force_.valid() && traction_loads_.empty());
   const Vec<Dim> g = settings_.body_force * (1 / settings_.numerics.mass_scaling);
-  r.load = std::sqrt(parallel_sum(n, 0.0, [&](std::size_t i) {
+  r.load = std::sqrt(global_sum(particles_, [&](std::size_t i) {
     if (constrained[i]) return 0.0;
     const Vec<Dim> load = loads ? Vec<Dim>(load_acceleration_[i] + g) : g;
     return double((V[i] / inverse_inertia_ * load).squaredNorm());
@@ -953,8 +981,9 @@ typename ElasticSolid<Dim>::Residual ElasticSolid<Dim>::equilibrium_residual(Rea
     const auto f = particles_.field(fibre_);
     const auto T = particles_.field(active_tension_);
     std::vector<Mat<Dim>> PB(n);
-    parallel_for(n, [&](std::size_t i) { PB[i] = T[i] * (F[i] * f[i]) * (B[i].transpose() * f[i]).transpose(); });
-    r.active = std::sqrt(parallel_sum(n, 0.0, [&](std::size_t i) {
+    parallel_for(particles_.n_owned(), [&](std::size_t i) { PB[i] = T[i] * (F[i] * f[i]) * (B[i].transpose() * f[i]).transpose(); });
+    update_ghosts(particles_, std::span<Mat<Dim>>(PB));
+    r.active = std::sqrt(global_sum(particles_, [&](std::size_t i) {
       return constrained[i] ? 0.0 : double((V[i] * stress_divergence_of(i, V, PB)).squaredNorm());
     }));
   }
@@ -967,7 +996,7 @@ double ElasticSolid<Dim>::hourglass_measure() {
   const auto F = particles_.field(deformation_gradient_);
   const auto& x = particles_.position;
   const auto& rel = relation_;
-  const double sum = parallel_sum(particles_.n_particles(), 0.0, [&](std::size_t i) {
+  const double sum = global_sum(particles_, [&](std::size_t i) {
     double row = 0;
     for (const auto [k, j] : rel.row(i)) {
       const Vec<Dim> X_ij = rel.distance[k] * rel.unit_vector[k];
@@ -975,7 +1004,8 @@ double ElasticSolid<Dim>::hourglass_measure() {
     }
     return row;
   });
-  return rel.n_pairs() > 0 ? sum / static_cast<double>(rel.n_pairs()) : 0.0;
+  const double pairs = global_sum(particles_, [&](std::size_t i) { return double(rel.offsets[i + 1] - rel.offsets[i]); });
+  return pairs > 0 ? sum / pairs : 0.0;
 }
 
 template class ElasticSolid<2>;

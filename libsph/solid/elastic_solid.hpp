@@ -68,6 +68,16 @@
 // Failure: if any particle gets a non-finite state or J <= 0 the step is undone (positions and
 // velocities restored to the start of the step, the last good state) and NumericalFailure names
 // the particle, its position, the time and the quantity.
+//
+// Distributed particle sets (libsph/core/distribution.hpp; the relation built on the set, owned
+// targets): each rank integrates its owned particles and keeps the reference neighbours of its
+// ghosts fixed, as the pair loops are one ring deep. Per step two halo exchanges: the mid-step
+// positions after the half drift (with the start velocities when the pair viscosity is on), and F
+// with P B0 after the stress; the samplers (energies, output fields, residual) refresh the ghosts'
+// positions first. Time step, tangent modulus, energies and J range are reduced over the ranks
+// (sums in global-id order: the same as one rank's). Not on several ranks: the quadratic
+// reconstruction (a_ji needs the ghosts' own neighbourhoods) and the clamp by reflection (a mirror
+// may lie on another rank); both are refused there.
 
 #include <array>
 #include <functional>
@@ -84,6 +94,8 @@
 namespace sph {
 
 class Parameters;
+template <int Dim>
+struct GlobalParticle;
 
 /// Zero-energy-mode control of SolidNumerics (parameter hourglass_control).
 enum class HourglassControl { penalty, energy };
@@ -323,7 +335,10 @@ class ElasticSolid {
   void compute_acceleration(Real time);
   void apply_position_constraints(Real time);
   void apply_velocity_constraints(Real time);
-  [[noreturn]] void fail(std::size_t particle, Real time, const std::string& quantity, const std::string& problem);
+  /// Undoes the step on every rank and throws NumericalFailure naming the particle (its global id).
+  [[noreturn]] void fail(const GlobalParticle<Dim>& particle, Real time, const std::string& quantity, const std::string& problem);
+  /// The `value` that the rank owning `particle` (at local index `local` there) holds, on every rank.
+  double value_at(const GlobalParticle<Dim>& particle, std::size_t local, double value) const;
 
   // The reference geometry of each pair of the relation (same order), in single precision, without
   // the neighbour's volume (so that the pair terms stay exactly antisymmetric): grad0 W_ij =

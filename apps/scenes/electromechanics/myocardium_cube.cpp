@@ -11,6 +11,7 @@
 
 #include "apps/scenes/electromechanics/em_scenes.hpp"
 #include "apps/scenes/solid/solid_run.hpp"
+#include "libsph/core/distribution.hpp"
 #include "libsph/core/point_probes.hpp"
 #include "geometry/lattice.hpp"
 #include "libsph/core/parallel.hpp"
@@ -81,13 +82,19 @@ class MyocardiumCubeScene final : public Scene {
   }
 
   bool checkpoints() const override { return true; }  // nothing kept outside the body
+  bool distributes() const override { return true; }
   void run(RunContext& ctx) override {
     const Real dp = Real(1) / Real(p_.resolution);
     const Real h = Real(p_.numerics.discretisation.smoothing_length_ratio) * dp;
     const long holder_layers = std::max(1L, long(std::ceil(p_.holder_length / double(dp) - 1e-9)));
     auto body = geometry::lattice_box<3>("cube", Vec3(-Real(holder_layers) * dp, 0, 0), Vec3(1, 1, 1), dp);
     const auto kernel = sph::make_kernel<3>(p_.numerics.discretisation.kernel);
-    const auto relation = sph::build_inner_relation<3>(body.position, kernel, h);
+    // The corner probes lie on the whole body (reference configuration); a distributed run then
+    // keeps this rank's part with one support of ghosts.
+    const std::vector<Vec3> corners{{1, 0, 0}, {1, 1, 0}, {1, 0, 1}, {1, 1, 1}};
+    const sph::PointProbes<3> corner_probes(corners, body.position, body.volume, kernel, h);
+    sph::distribute(body, std::visit([h]<class K>(const K&) { return K::support_radius(h); }, kernel));
+    const auto relation = sph::build_inner_relation<3>(body, kernel, h);
 
     sph::HolzapfelOgden<3> law;
     law.a = Real(p_.a);
@@ -112,11 +119,9 @@ class MyocardiumCubeScene final : public Scene {
       sph::parallel_for(T.size(), [&](std::size_t i) { T[i] = X[i][0] > 0 ? Real(p_.max_tension * X[i][0] * ramp) : Real(0); });
     };
 
-    const std::vector<Vec3> corners{{1, 0, 0}, {1, 1, 0}, {1, 0, 1}, {1, 1, 1}};
     std::vector<std::string> header;
     for (int c = 0; c < 4; ++c)
       for (const char* q : {"ux", "uy", "uz"}) header.push_back("corner" + std::to_string(c) + "_" + q);
-    const sph::PointProbes<3> corner_probes(corners, X, body.volume, kernel, h);  // reference configuration
     auto corner_displacements = [&] {
       auto u = material_point_positions<3>(corner_probes, solid);
       for (std::size_t c = 0; c < corners.size(); ++c) u[c] -= corners[c];

@@ -107,10 +107,14 @@ template <int Dim>
 std::vector<sph::Vec<Dim>> material_point_positions(const sph::PointProbes<Dim>& probes, sph::ElasticSolid<Dim>& solid) {
   solid.update_deformation_gradient();
   const auto& body = solid.particles();
-  const auto F = body.field(solid.deformation_gradient_field());
+  // A distributed body: the probes lie on the whole set, sampled from its gathered positions and F.
+  std::vector<sph::Vec<Dim>> whole_x;
+  std::vector<sph::Mat<Dim>> whole_F;
+  const auto x_all = sph::gather_all(body, std::span<const sph::Vec<Dim>>(body.position), whole_x);
+  const auto F_all = sph::gather_all(body, std::span<const sph::Mat<Dim>>(body.field(solid.deformation_gradient_field())), whole_F);
   std::vector<sph::Vec<Dim>> x(probes.size());
   for (std::size_t p = 0; p < probes.size(); ++p)
-    x[p] = probes.template sample_with_gradient<sph::Vec<Dim>, sph::Mat<Dim>>(p, body.position, F);
+    x[p] = probes.template sample_with_gradient<sph::Vec<Dim>, sph::Mat<Dim>>(p, x_all, F_all);
   return x;
 }
 

@@ -68,9 +68,10 @@ void declare_clamp(sph::Parameters& p, std::string& clamp);
 template <int Dim>
 void hold_face_x0(sph::ElasticSolid<Dim>& solid, const std::string& clamp);
 
-/// Where the material points of `probes` (built on the solid's reference positions) are now: F is
-/// brought to the current positions, then each point is sampled with it (exact on quadratic motion,
-/// libsph/core/point_probes.hpp).
+/// Where the material points of `probes` (built on the solid's reference positions; for a
+/// distributed solid, on the whole set before distribution) are now: F is brought to the current
+/// positions, then each point is sampled with it (exact on quadratic motion,
+/// libsph/core/point_probes.hpp). Collective for a distributed solid.
 template <int Dim>
 std::vector<sph::Vec<Dim>> material_point_positions(const sph::PointProbes<Dim>& probes, sph::ElasticSolid<Dim>& solid);
 
