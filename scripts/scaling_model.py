@@ -16,11 +16,11 @@ import math
 
 # Measured (this machine, the default heart at dp 2 mm: 12,444 particles, 13,300 mechanics
 # sub-steps and about 8,400 EP steps of 0.1 ms per beat; mechanics 83 s and the rest 58 s per beat
-# on 2 threads; the TLSPH step of the myocardium cube runs 1.73x faster on 2 threads than on 1).
+# on 2 threads; the TLSPH step of the myocardium cube runs 1.76x faster on 2 threads than on 1).
 HEART_PARTICLES_2MM = 12444
 SUBSTEPS_2MM = 13300
 EP_STEPS = 8400
-THREAD_SPEEDUP = 1.73
+THREAD_SPEEDUP = 1.76
 C_MECH = 83.0 * THREAD_SPEEDUP / (SUBSTEPS_2MM * HEART_PARTICLES_2MM)  # core-s per particle-sub-step
 C_EP = 58.0 * THREAD_SPEEDUP / (EP_STEPS * HEART_PARTICLES_2MM)        # core-s per particle-EP step
 
