@@ -65,6 +65,32 @@ std::vector<std::string> saved_assignments(const sph::Checkpoint& checkpoint, co
   return out;
 }
 
+// Ranks that read their parameters differently (a config file that differs between nodes, mixed
+// command lines) would compute different problems; every rank stops with the first difference.
+void check_ranks_agree(const sph::Parameters& parameters, const fs::path& output) {
+  const sph::Communicator& world = sph::Communicator::world();
+  if (world.size() == 1) return;
+  nlohmann::json mine = parameters.to_json();
+  mine["(output folder)"] = output.string();
+  const std::string text = mine.dump();
+  const auto all = world.all_gather(std::vector<std::byte>(reinterpret_cast<const std::byte*>(text.data()),
+                                                           reinterpret_cast<const std::byte*>(text.data()) + text.size()));
+  const auto parse = [](const std::vector<std::byte>& bytes) {
+    return nlohmann::json::parse(std::string(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+  };
+  const nlohmann::json root = parse(all[0]);
+  for (std::size_t q = 1; q < all.size(); ++q) {
+    const nlohmann::json other = parse(all[q]);
+    if (other == root) continue;
+    for (auto it = root.begin(); it != root.end(); ++it)
+      if (!other.contains(it.key()) || other[it.key()] != it.value())
+        throw sph::ParameterError("the MPI ranks disagree about parameter '" + it.key() + "': " + it.value().dump() + " on rank 0, " +
+                                  (other.contains(it.key()) ? other[it.key()].dump() : std::string("none")) + " on rank " +
+                                  std::to_string(q) + " (give every rank the same command line and config file)");
+    throw sph::ParameterError("the MPI ranks disagree about their parameters (rank " + std::to_string(q) + " has more)");
+  }
+}
+
 // The first signal asks the running harness to checkpoint and stop; a second one ends the process.
 extern "C" void on_interrupt_signal(int signal) {
   sph::request_interrupt();
@@ -164,6 +190,8 @@ SceneRunResult run_scene(const std::string& scene_name, const CommonOptions& opt
   parameters.apply_presets();
   parameters.check();
   scene->check();
+  const fs::path output = resuming ? resume_output : options.output.empty() ? fs::path("output") / scene_name : options.output;
+  check_ranks_agree(parameters, output);
   if (options.threads < 0) throw sph::ParameterError("option '--threads' = " + std::to_string(options.threads) + ": must be >= 0");
   if (options.check_only) return result;
   if (options.print_parameters_only) {
@@ -171,7 +199,6 @@ SceneRunResult run_scene(const std::string& scene_name, const CommonOptions& opt
     return result;
   }
 
-  const fs::path output = resuming ? resume_output : options.output.empty() ? fs::path("output") / scene_name : options.output;
   if (!resuming) check_output_folder(output);
   result.output = output;
   if (!options.quiet) std::cout << "cardiosph " << scene_name << ", parameters:\n" << parameters.describe() << std::flush;

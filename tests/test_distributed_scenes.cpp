@@ -3,7 +3,8 @@
 // and the myocardium cube (TLSPH) on 2 and 3, against the same scene without mpirun, every .vtu,
 // .csv and .pvd file compared byte for byte and the report's results and errors compared as
 // numbers; a solid's numerical failure on 2 ranks names the particle of one rank. A scene that does
-// not distribute is refused under mpirun with exit code 2 and nothing written.
+// not distribute, and ranks that disagree about their parameters, are refused under mpirun with
+// exit code 2 and nothing written.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -126,6 +127,30 @@ TEST(DistributedRuns, ASolidFailureNamesTheParticleOfOneRankAndWritesItsLastGood
     EXPECT_TRUE(content == other->second) << name << " differs between 1 and 2 ranks";
   }
   std::printf("[ measured ] on 1 and 2 ranks: %s\n", message.c_str());
+}
+
+TEST(DistributedRuns, RanksThatDisagreeAboutAParameterStopWithItsName) {
+  // Two command lines under one mpirun (MPMD): the ranks compare their parameters before anything
+  // is written; a rank that alone finds its input bad ends the run with its own message.
+  const test::TemporaryFolder folder("distributed");
+  const fs::path out = folder.path() / "disagree", err = folder.path() / "err.txt";
+  auto mixed = [&](const std::string& first, const std::string& second) {
+    const std::string binary = CARDIOSPH_BINARY, common = " --quiet --threads 1 --output " + out.string();
+    const std::string command = std::string(CARDIOSPH_MPIEXEC) + " --allow-run-as-root --oversubscribe -np 1 " + binary + " " + first +
+                                common + " : -np 1 " + binary + " " + second + common + " > /dev/null 2> " + err.string();
+    const int status = std::system(command.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  };
+  EXPECT_EQ(mixed("diffusion --set resolution=40", "diffusion --set resolution=50"), 2);
+  std::string message = test::bytes_of(err);
+  EXPECT_NE(message.find("the MPI ranks disagree about parameter 'resolution': 40 on rank 0, 50 on rank 1"), std::string::npos) << message;
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_FALSE(fs::exists(out.string() + ".partial"));
+  EXPECT_EQ(mixed("diffusion --set resolution=40", "diffusion --set resolution=41"), 2);
+  message = test::bytes_of(err);
+  EXPECT_NE(message.find("(rank 1) cardiosph: parameter 'box_height' must be a whole number"), std::string::npos) << message;
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_FALSE(fs::exists(out.string() + ".partial"));
 }
 
 TEST(DistributedRuns, ASceneThatDoesNotDistributeIsRefused) {

@@ -1,5 +1,6 @@
 #include "libsph/core/communicator.hpp"
 
+#include <cstdlib>
 #include <stdexcept>
 
 #ifdef CARDIOSPH_WITH_MPI
@@ -121,6 +122,11 @@ void Communicator::barrier() const {
   MPI_Barrier(comm_of(*this));
 }
 
+void Communicator::abort(int code) const {
+  MPI_Abort(comm_of(*this), code);
+  std::exit(code);  // (MPI_Abort does not return)
+}
+
 MpiSession::MpiSession(int& argc, char**& argv) {
   int provided = 0;
   MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
@@ -149,6 +155,7 @@ void Communicator::exchange(const std::vector<std::vector<std::byte>>& send,
 std::vector<std::vector<std::byte>> Communicator::all_gather(const std::vector<std::byte>& local) const { return {local}; }
 std::vector<std::vector<std::byte>> Communicator::gather(const std::vector<std::byte>& local) const { return {local}; }
 void Communicator::barrier() const {}
+void Communicator::abort(int code) const { std::exit(code); }
 MpiSession::MpiSession(int&, char**&) {}
 MpiSession::~MpiSession() = default;
 

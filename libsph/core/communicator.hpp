@@ -39,6 +39,9 @@ class Communicator {
   /// Every rank's bytes, in rank order, on every rank.
   std::vector<std::vector<std::byte>> all_gather(const std::vector<std::byte>& local) const;
   void barrier() const;
+  /// Ends every rank of the run at once with exit code `code` (MPI_Abort); exits this process alone
+  /// without MPI.
+  [[noreturn]] void abort(int code) const;
   /// The MPI communicator (an MPI_Comm) for libraries that take one (Zoltan); only with MPI.
   const void* native_handle() const;
 
