@@ -21,6 +21,9 @@ void add_common_options(CLI::App& command, CommonOptions& o) {
   command.add_option("--end-time", o.end_time, "simulated end time (same as --set end_time=...)");
   command.add_option("--threads", o.threads, "worker threads (0: all cores)");
   command.add_flag("--quiet", o.quiet, "no parameter listing and no progress");
+  command.add_flag("--output-pieces", o.output_pieces,
+                   "under mpirun: every rank writes its particles as a piece of each frame (.pvtu) instead of rank 0 "
+                   "gathering and writing the whole body");
   command.add_flag("--parameters", o.print_parameters_only, "list the parameters with their values, units and ranges, and stop");
 }
 

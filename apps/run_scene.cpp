@@ -11,6 +11,7 @@
 #include "libsph/core/numerical_failure.hpp"
 #include "libsph/core/parallel.hpp"
 #include "libsph/io/checkpoint.hpp"
+#include "libsph/io/particle_output.hpp"
 
 namespace cardiosph {
 namespace {
@@ -67,11 +68,12 @@ std::vector<std::string> saved_assignments(const sph::Checkpoint& checkpoint, co
 
 // Ranks that read their parameters differently (a config file that differs between nodes, mixed
 // command lines) would compute different problems; every rank stops with the first difference.
-void check_ranks_agree(const sph::Parameters& parameters, const fs::path& output) {
+void check_ranks_agree(const sph::Parameters& parameters, const fs::path& output, bool output_pieces) {
   const sph::Communicator& world = sph::Communicator::world();
   if (world.size() == 1) return;
   nlohmann::json mine = parameters.to_json();
   mine["(output folder)"] = output.string();
+  mine["(--output-pieces)"] = output_pieces;
   const std::string text = mine.dump();
   const auto all = world.all_gather(std::vector<std::byte>(reinterpret_cast<const std::byte*>(text.data()),
                                                            reinterpret_cast<const std::byte*>(text.data()) + text.size()));
@@ -191,7 +193,7 @@ SceneRunResult run_scene(const std::string& scene_name, const CommonOptions& opt
   parameters.check();
   scene->check();
   const fs::path output = resuming ? resume_output : options.output.empty() ? fs::path("output") / scene_name : options.output;
-  check_ranks_agree(parameters, output);
+  check_ranks_agree(parameters, output, options.output_pieces);
   if (options.threads < 0) throw sph::ParameterError("option '--threads' = " + std::to_string(options.threads) + ": must be >= 0");
   if (options.check_only) return result;
   if (options.print_parameters_only) {
@@ -216,6 +218,7 @@ SceneRunResult run_scene(const std::string& scene_name, const CommonOptions& opt
     }
   }
   sph::ThreadLimit thread_limit(static_cast<std::size_t>(options.threads));
+  sph::write_distributed_output_in_pieces(options.output_pieces);
   RunContext ctx{staging, options.quiet, {}};
   ctx.report.scene = scene_name;
   ctx.report.parameters = parameters.to_json();

@@ -28,6 +28,7 @@ struct CommonOptions {
   std::string resolution, end_time;      ///< shortcuts for --set resolution=, end_time=
   long threads = 0;                      ///< 0: all cores
   bool quiet = false;
+  bool output_pieces = false;            ///< distributed runs: .pvtu pieces per rank (libsph/io/particle_output.hpp)
   bool print_parameters_only = false;  ///< print the parameters (after checks) and stop
   bool check_only = false;             ///< check the parameters and stop, silently
   double checkpoint_interval = 0;      ///< > 0: a checkpoint every this much simulated time

@@ -129,6 +129,40 @@ TEST(DistributedRuns, ASolidFailureNamesTheParticleOfOneRankAndWritesItsLastGood
   std::printf("[ measured ] on 1 and 2 ranks: %s\n", message.c_str());
 }
 
+TEST(DistributedRuns, OutputInPiecesListsEveryRanksParticlesInOnePvtu) {
+  // --output-pieces: every rank writes its owned particles (VTK's parallel XML writer); the .pvd
+  // lists one .pvtu per frame, which lists one piece per rank; the pieces hold every particle once
+  // and the time series are those of one rank.
+  const test::TemporaryFolder folder("distributed");
+  const std::string arguments = "myocardium-cube --set resolution=10 --set end_time=0.6 --set ramp_time=0.3 --set output_interval=0.3";
+  const fs::path one = folder.path() / "one", out = folder.path() / "pieces", err = folder.path() / "err.txt";
+  ASSERT_EQ(run(0, arguments + " --output " + one.string(), err), 0) << test::bytes_of(err);
+  ASSERT_EQ(run(2, arguments + " --output-pieces --output " + out.string(), err), 0) << test::bytes_of(err);
+  const std::string pvd = test::bytes_of(out / "cube.pvd");
+  EXPECT_NE(pvd.find("file=\"cube_00002.pvtu\""), std::string::npos) << pvd;
+  const auto count = [](const std::string& text, const std::string& what) {
+    std::size_t n = 0;
+    for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+    return n;
+  };
+  for (const char* frame : {"cube_00000", "cube_00002"}) {
+    const std::string pvtu = test::bytes_of(out / (std::string(frame) + ".pvtu"));
+    EXPECT_EQ(count(pvtu, "<Piece Source="), 2u) << pvtu;
+    EXPECT_NE(pvtu.find("Name=\"global_id\""), std::string::npos);
+    std::size_t points = 0;
+    for (int rank = 0; rank < 2; ++rank) {
+      const std::string piece = test::bytes_of(out / frame / (std::string(frame) + "_" + std::to_string(rank) + ".vtu"));
+      const auto at = piece.find("NumberOfPoints=\"");
+      ASSERT_NE(at, std::string::npos);
+      points += std::stoul(piece.substr(at + 16));
+    }
+    EXPECT_EQ(points, 1200u) << frame;  // 10 x 10 x 12 particles (cube and holder)
+  }
+  for (const char* series : {"observers.csv", "cube_energy.csv"})
+    EXPECT_TRUE(test::bytes_of(one / series) == test::bytes_of(out / series)) << series;
+  std::printf("[ measured ] 2 ranks in pieces: 3 frames of 2 pieces, 1,200 particles each; time series identical to one rank\n");
+}
+
 TEST(DistributedRuns, RanksThatDisagreeAboutAParameterStopWithItsName) {
   // Two command lines under one mpirun (MPMD): the ranks compare their parameters before anything
   // is written; a rank that alone finds its input bad ends the run with its own message.

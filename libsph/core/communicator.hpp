@@ -1,7 +1,8 @@
 #pragma once
 // The ranks of a distributed run. Built with MPI (CARDIOSPH_WITH_MPI), a Communicator is
 // MPI_COMM_WORLD; without it there is one rank and every operation is the identity, so the serial
-// build needs no MPI at all. MPI stays inside communicator.cpp and distribution.cpp: nothing else
+// build needs no MPI at all. MPI stays inside communicator.cpp and distribution.cpp (and VTK's
+// own MPI controller inside libsph/io/vtk/vtu_writer.cpp, for the .pvtu pieces): nothing else
 // includes mpi.h.
 //
 // Every operation here is collective (all ranks call it, in the same order) except rank() and

@@ -4,6 +4,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "libsph/core/communicator.hpp"
 #include "libsph/io/atomic_file.hpp"
 #include "libsph/io/vtk/vtu_writer.hpp"
 
@@ -11,14 +12,13 @@ namespace sph {
 namespace {
 
 template <int Dim>
-std::vector<PointArray> point_arrays(const ParticleSet<Dim>& particles) {
-  const std::size_t n = particles.n_particles();
+std::vector<PointArray> point_arrays(const ParticleSet<Dim>& particles, std::size_t n) {
   std::vector<PointArray> arrays;
-  arrays.push_back({"volume", 1, std::vector<double>(particles.volume.begin(), particles.volume.end())});
+  arrays.push_back({"volume", 1, std::vector<double>(particles.volume.begin(), particles.volume.begin() + std::ptrdiff_t(n))});
   for (const auto& base : particles.fields()) {
     if (!base->write_output()) continue;
     if (const auto* f = dynamic_cast<const FieldArray<Real>*>(base.get())) {
-      arrays.push_back({f->name(), 1, std::vector<double>(f->values.begin(), f->values.end())});
+      arrays.push_back({f->name(), 1, std::vector<double>(f->values.begin(), f->values.begin() + std::ptrdiff_t(n))});
     } else if (const auto* v = dynamic_cast<const FieldArray<Vec<Dim>>*>(base.get())) {
       PointArray a{v->name(), 3, std::vector<double>(3 * n, 0.0)};
       for (std::size_t i = 0; i < n; ++i)
@@ -31,7 +31,7 @@ std::vector<PointArray> point_arrays(const ParticleSet<Dim>& particles) {
           for (int c = 0; c < Dim; ++c) a.values[9 * i + 3 * r + c] = m->values[i](r, c);
       arrays.push_back(std::move(a));
     } else if (const auto* k = dynamic_cast<const FieldArray<int>*>(base.get())) {
-      arrays.push_back({k->name(), 1, std::vector<double>(k->values.begin(), k->values.end())});
+      arrays.push_back({k->name(), 1, std::vector<double>(k->values.begin(), k->values.begin() + std::ptrdiff_t(n))});
     }
   }
   return arrays;
@@ -43,15 +43,44 @@ template <int Dim>
 ParticleOutput<Dim>::ParticleOutput(std::filesystem::path folder, std::string body_name)
     : folder_(std::move(folder)), body_(std::move(body_name)) {}
 
+namespace {
+bool pieces_asked = false;
+}  // namespace
+
+void write_distributed_output_in_pieces(bool pieces) { pieces_asked = pieces; }
+bool distributed_output_in_pieces() { return pieces_asked; }
+
 template <int Dim>
 void ParticleOutput<Dim>::write(const ParticleSet<Dim>& particles, double time) {
+  write_file(particles, particles.n_particles(), time, false);
+}
+
+template <int Dim>
+void ParticleOutput<Dim>::write_piece(const ParticleSet<Dim>& particles, double time) {
+  write_file(particles, particles.n_owned(), time, true);
+}
+
+template <int Dim>
+void ParticleOutput<Dim>::write_file(const ParticleSet<Dim>& particles, std::size_t n, double time, bool piece) {
   char name[256];
-  std::snprintf(name, sizeof(name), "%s_%05zu.vtu", body_.c_str(), entries_.size());
-  std::vector<double> points(3 * particles.n_particles(), 0.0);
-  for (std::size_t i = 0; i < particles.n_particles(); ++i)
+  std::snprintf(name, sizeof(name), piece ? "%s_%05zu.pvtu" : "%s_%05zu.vtu", body_.c_str(), entries_.size());
+  std::vector<double> points(3 * n, 0.0);
+  for (std::size_t i = 0; i < n; ++i)
     for (int d = 0; d < Dim; ++d) points[3 * i + d] = particles.position[i][d];
-  write_vtu(folder_ / name, points, point_arrays(particles));
+  auto arrays = point_arrays(particles, n);
   entries_.emplace_back(time, name);
+  if (piece) {
+    // Each particle's global id (its index in a one-rank run), so that pieces can be matched.
+    const Partition<Dim>* p = particles.partition();
+    PointArray ids{"global_id", 1, std::vector<double>(n)};
+    for (std::size_t i = 0; i < n; ++i) ids.values[i] = p ? double(p->global_id[i]) : double(i);
+    arrays.push_back(std::move(ids));
+    const Communicator& world = Communicator::world();
+    write_vtu_piece(folder_ / name, world.rank(), world.size(), points, arrays);
+    if (!world.is_root()) return;  // rank 0 keeps the collection
+  } else {
+    write_vtu(folder_ / name, points, arrays);
+  }
 
   std::ostringstream pvd;
   pvd << "<?xml version=\"1.0\"?>\n"

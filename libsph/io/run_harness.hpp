@@ -166,6 +166,10 @@ void RunHarness::add_body(ParticleSet<Dim>& body, Real output_interval, std::fun
         output->write(body, time);
         return;
       }
+      if (distributed_output_in_pieces()) {
+        output->write_piece(body, time);
+        return;
+      }
       gather_particles(body, *whole);
       if (writes_files_) output->write(*whole, time);
     });
