@@ -41,32 +41,43 @@ std::map<std::string, std::string> files_of(const fs::path& folder) {
   return files;
 }
 
+/// Every .vtu, .csv and .pvd of the one-rank folder is in `other`, byte for byte, and no more;
+/// returns the bytes compared.
+std::size_t expect_same_files(const fs::path& one, const fs::path& other, int ranks) {
+  const auto reference = files_of(one), files = files_of(other);
+  EXPECT_GE(reference.size(), 2u);
+  EXPECT_EQ(files.size(), reference.size());
+  std::size_t bytes = 0;
+  for (const auto& [name, content] : reference) {
+    const auto found = files.find(name);
+    if (found == files.end()) {
+      ADD_FAILURE() << name << " is missing on " << ranks << " ranks";
+      continue;
+    }
+    EXPECT_TRUE(content == found->second) << name << " differs between 1 and " << ranks << " ranks";
+    bytes += content.size();
+  }
+  return bytes;
+}
+
 void expect_same_as_one_rank(const std::string& scene_arguments, std::initializer_list<int> rank_counts) {
   const test::TemporaryFolder folder("distributed");
   const fs::path one = folder.path() / "one", err = folder.path() / "err.txt";
   ASSERT_EQ(run(0, scene_arguments + " --output " + one.string(), err), 0) << test::bytes_of(err);
-  const auto reference = files_of(one);
+  const std::size_t n_files = files_of(one).size();
   const auto reference_report = nlohmann::json::parse(test::bytes_of(one / "report.json"));
-  ASSERT_GE(reference.size(), 3u);
+  ASSERT_GE(n_files, 3u);
   for (const int ranks : rank_counts) {
     const fs::path out = folder.path() / ("ranks" + std::to_string(ranks));
     ASSERT_EQ(run(ranks, scene_arguments + " --output " + out.string(), err), 0) << test::bytes_of(err);
-    const auto files = files_of(out);
-    EXPECT_EQ(files.size(), reference.size());
-    std::size_t bytes = 0;
-    for (const auto& [name, content] : reference) {
-      const auto other = files.find(name);
-      ASSERT_NE(other, files.end()) << name << " is missing on " << ranks << " ranks";
-      EXPECT_TRUE(content == other->second) << name << " differs between 1 and " << ranks << " ranks";
-      bytes += content.size();
-    }
+    const std::size_t bytes = expect_same_files(one, out, ranks);
     const auto report = nlohmann::json::parse(test::bytes_of(out / "report.json"));
     EXPECT_EQ(report["ranks"], ranks);
     EXPECT_EQ(test::physics_only(report["results"]).dump(), test::physics_only(reference_report["results"]).dump());
     EXPECT_EQ(report["errors"].dump(), reference_report["errors"].dump());
     EXPECT_EQ(report["particles"].dump(), reference_report["particles"].dump());
     std::printf("[ measured ] %s on %d ranks: %zu files (%zu bytes) identical to one rank; errors %s\n",
-                scene_arguments.c_str(), ranks, files.size(), bytes, report["errors"].dump().c_str());
+                scene_arguments.c_str(), ranks, n_files, bytes, report["errors"].dump().c_str());
   }
 }
 
@@ -118,14 +129,7 @@ TEST(DistributedRuns, ASolidFailureNamesTheParticleOfOneRankAndWritesItsLastGood
   const std::string message = failure_line(test::bytes_of(err_one));
   ASSERT_NE(message.find("particle"), std::string::npos) << test::bytes_of(err_one);
   EXPECT_EQ(failure_line(test::bytes_of(err_two)), message);
-  const auto reference = files_of(one), files = files_of(two);
-  ASSERT_GE(reference.size(), 2u);
-  EXPECT_EQ(files.size(), reference.size());
-  for (const auto& [name, content] : reference) {
-    const auto other = files.find(name);
-    ASSERT_NE(other, files.end()) << name << " is missing on 2 ranks";
-    EXPECT_TRUE(content == other->second) << name << " differs between 1 and 2 ranks";
-  }
+  expect_same_files(one, two, 2);
   std::printf("[ measured ] on 1 and 2 ranks: %s\n", message.c_str());
 }
 
