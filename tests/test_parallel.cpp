@@ -4,10 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <random>
 
 #include "geometry/lattice.hpp"
+#include "libsph/core/exact_sum.hpp"
 #include "libsph/core/neighbour_relation.hpp"
 #include "libsph/core/parallel.hpp"
 #include "libsph/diffusion/diffusion_system.hpp"
@@ -96,4 +99,45 @@ TEST(ParallelHelpers, FirstIndexWhereFindsTheLowestIndex) {
   EXPECT_EQ(sph::first_index_where(flags.size(), [&](std::size_t) { return false; }), flags.size());
 }
 
+// The exact sum does not depend on the order or grouping of its terms, and it is exact where the
+// naive sum loses everything: 1e100 + 1 - 1e100 = 1.
+TEST(ExactSum, IsTheSameForAnyOrderAndGroupingOfTheTerms) {
+  std::mt19937_64 engine(20261207);
+  std::vector<double> terms(50000);
+  for (auto& t : terms) {
+    const double mantissa = static_cast<double>(engine() >> 11) * 0x1.0p-53 - 0.5;
+    t = std::ldexp(mantissa, static_cast<int>(engine() % 120) - 60);  // magnitudes 2^-61 to 2^59
+  }
+  terms.push_back(1e100);
+  terms.push_back(-1e100);
+  const double reference = sph::exact_sum(terms.size(), [&](std::size_t i) { return terms[i]; });
+  long double naive = 0;
+  for (const double t : terms) naive += t;
+  for (int trial = 0; trial < 5; ++trial) {
+    std::shuffle(terms.begin(), terms.end(), engine);
+    sph::ExactSum a, b;  // two halves merged, as two ranks would
+    for (std::size_t i = 0; i < terms.size(); ++i) (i % 3 == 0 ? a : b).add(terms[i]);
+    a.add(sph::ExactSum::from_bytes(b.bytes()));
+    const double threads = [&] {
+      sph::ThreadLimit limit(trial % 2 + 1);
+      return sph::exact_sum(terms.size(), [&](std::size_t i) { return terms[i]; });
+    }();
+    EXPECT_EQ(std::memcmp(&reference, &threads, sizeof(double)), 0);
+    const double merged = a.value();
+    EXPECT_EQ(std::memcmp(&reference, &merged, sizeof(double)), 0);
+  }
+  sph::ExactSum cancel;
+  for (const double t : {1e100, 1.0, -1e100}) cancel.add(t);
+  EXPECT_EQ(cancel.value(), 1.0);
+  sph::ExactSum special;
+  special.add(1.0);
+  special.add(std::numeric_limits<double>::infinity());
+  EXPECT_EQ(special.value(), std::numeric_limits<double>::infinity());
+  special.add(-std::numeric_limits<double>::infinity());
+  EXPECT_TRUE(std::isnan(special.value()));
+  std::printf("[ measured ] exact sum of %zu terms with 1e100 and -1e100: %.17g (long double naive sum %.17Lg)\n",
+              terms.size(), reference, naive);
+}
+
 }  // namespace
+

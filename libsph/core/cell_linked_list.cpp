@@ -1,5 +1,7 @@
 #include "libsph/core/cell_linked_list.hpp"
 
+#include "libsph/core/parallel.hpp"
+
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -59,6 +61,26 @@ void CellLinkedList<Dim>::rebuild(std::span<const Vec<Dim>> sources, Real search
     for (std::size_t i = 0; i < sources.size(); ++i) cell_particles_[next_[cell_of_[i]]++] = static_cast<Index>(i);
   else
     for (const Index i : order) cell_particles_[next_[cell_of_[i]]++] = i;
+}
+
+template <int Dim>
+void CellLinkedList<Dim>::order_by_position(std::span<const Vec<Dim>> sources) {
+  auto before = [&](Index a, Index b) {
+    for (int d = 0; d < Dim; ++d)
+      if (sources[a][d] != sources[b][d]) return sources[a][d] < sources[b][d];
+    return a < b;
+  };
+  const std::size_t n_cells = cell_start_.size() - 1;
+  parallel_for(n_cells, [&](std::size_t c) {  // a cell holds a few tens of sources: insertion sort
+    Index* first = cell_particles_.data() + cell_start_[c];
+    Index* last = cell_particles_.data() + cell_start_[c + 1];
+    for (Index* i = first + (first != last); i < last; ++i) {
+      const Index value = *i;
+      Index* j = i;
+      for (; j > first && before(value, *(j - 1)); --j) *j = *(j - 1);
+      *j = value;
+    }
+  });
 }
 
 template class CellLinkedList<2>;

@@ -31,6 +31,11 @@ class CellLinkedList {
   void rebuild(std::span<const Vec<Dim>> sources, Real search_radius, const Vec<Dim>* origin = nullptr,
                std::span<const Index> order = {});
 
+  /// Re-orders the sources within each cell lexicographically by position (x, then y, then z; ties
+  /// by index), so that the order no longer depends on where the sources sit in memory or on which
+  /// rank they are (neighbour_relation.hpp, SourceOrder::by_position).
+  void order_by_position(std::span<const Vec<Dim>> sources);
+
   /// Calls visit(j) for every source j in the cells around `x` (a superset of the neighbours
   /// within the search radius), in a fixed order: cells in stencil order, sources by index.
   template <class Visit>

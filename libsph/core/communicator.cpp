@@ -85,6 +85,18 @@ void Communicator::exchange(const std::vector<std::vector<std::byte>>& send,
   MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
 }
 
+std::vector<std::vector<std::byte>> Communicator::exchange(const std::vector<std::vector<std::byte>>& send) const {
+  if (size_ == 1) return {send.at(0)};
+  ++traffic_.collectives;
+  std::vector<unsigned long long> sizes(static_cast<std::size_t>(size_)), incoming(sizes.size());
+  for (std::size_t q = 0; q < sizes.size(); ++q) sizes[q] = send.at(q).size();
+  MPI_Alltoall(sizes.data(), 1, MPI_UNSIGNED_LONG_LONG, incoming.data(), 1, MPI_UNSIGNED_LONG_LONG, comm_of(*this));
+  std::vector<std::vector<std::byte>> receive(sizes.size());
+  for (std::size_t q = 0; q < sizes.size(); ++q) receive[q].resize(incoming[q]);
+  exchange(send, receive);
+  return receive;
+}
+
 std::vector<std::vector<std::byte>> Communicator::all_gather(const std::vector<std::byte>& local) const {
   if (size_ == 1) return {local};
   ++traffic_.collectives;
@@ -151,6 +163,9 @@ bool Communicator::any(bool flag) const { return flag; }
 void Communicator::exchange(const std::vector<std::vector<std::byte>>& send,
                             std::vector<std::vector<std::byte>>& receive) const {
   if (!send.empty() && !receive.empty()) receive[0] = send[0];
+}
+std::vector<std::vector<std::byte>> Communicator::exchange(const std::vector<std::vector<std::byte>>& send) const {
+  return {send.at(0)};
 }
 std::vector<std::vector<std::byte>> Communicator::all_gather(const std::vector<std::byte>& local) const { return {local}; }
 std::vector<std::vector<std::byte>> Communicator::gather(const std::vector<std::byte>& local) const { return {local}; }

@@ -35,6 +35,9 @@ class Communicator {
   /// Sends send[q] to rank q and receives from every rank q into receive[q], which the caller has
   /// sized to what q sends (both sides know the halo lists). Empty buffers send nothing.
   void exchange(const std::vector<std::vector<std::byte>>& send, std::vector<std::vector<std::byte>>& receive) const;
+  /// Sends send[q] to rank q (q = this rank included) when the receivers do not know the sizes
+  /// (particles migrating): the sizes go first, in an all-to-all; returns what each rank sent here.
+  std::vector<std::vector<std::byte>> exchange(const std::vector<std::vector<std::byte>>& send) const;
   /// Every rank's bytes, in rank order, at rank 0 (empty on the others).
   std::vector<std::vector<std::byte>> gather(const std::vector<std::byte>& local) const;
   /// Every rank's bytes, in rank order, on every rank.

@@ -1,6 +1,7 @@
 #include "libsph/core/distribution.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -61,13 +62,17 @@ void slice_geometry(void* data, int, int, int n, ZOLTAN_ID_PTR global, ZOLTAN_ID
 
 /// The rank of every particle: Zoltan's recursive coordinate bisection, each rank contributing a
 /// slice of the global ids, the answer shared with every rank.
-template <int Dim>
-std::vector<int> owners_by_rcb(const std::vector<Vec<Dim>>& position, const Communicator& comm) {
+void initialise_zoltan() {
   static const bool initialised = [] {
     float version = 0;
     return Zoltan_Initialize(0, nullptr, &version) == ZOLTAN_OK;
   }();
   if (!initialised) throw std::runtime_error("distribution: Zoltan did not initialise");
+}
+
+template <int Dim>
+std::vector<int> owners_by_rcb(const std::vector<Vec<Dim>>& position, const Communicator& comm) {
+  initialise_zoltan();
   const std::size_t n = position.size(), ranks = static_cast<std::size_t>(comm.size()),
                     r = static_cast<std::size_t>(comm.rank());
   ZoltanSlice<Dim> slice{&position, n * r / ranks, n * (r + 1) / ranks};
@@ -112,6 +117,40 @@ std::vector<int> owners_by_rcb(const std::vector<Vec<Dim>>& position, const Comm
     std::memcpy(owner.data() + at, part.data(), part.size());
   }
   return owner;
+}
+
+/// The objects of a cut of a moving partition: this rank's owned particles, by local index.
+template <int Dim>
+struct ZoltanPoints {
+  std::vector<Vec<Dim>> position;
+  std::vector<Index> id;
+};
+
+template <int Dim>
+int points_count(void* data, int* error) {
+  *error = ZOLTAN_OK;
+  return static_cast<int>(static_cast<ZoltanPoints<Dim>*>(data)->id.size());
+}
+
+template <int Dim>
+void points_list(void* data, int, int, ZOLTAN_ID_PTR global, ZOLTAN_ID_PTR local, int weight_dim, float* weights,
+                 int* error) {
+  const auto& s = *static_cast<ZoltanPoints<Dim>*>(data);
+  for (std::size_t k = 0; k < s.id.size(); ++k) {
+    global[k] = static_cast<ZOLTAN_ID_TYPE>(s.id[k]);
+    local[k] = static_cast<ZOLTAN_ID_TYPE>(k);
+    for (int w = 0; w < weight_dim; ++w) weights[k * static_cast<std::size_t>(weight_dim) + static_cast<std::size_t>(w)] = 1.0f;
+  }
+  *error = ZOLTAN_OK;
+}
+
+template <int Dim>
+void points_geometry(void* data, int, int, int n, ZOLTAN_ID_PTR, ZOLTAN_ID_PTR local, int dim, double* coordinates,
+                     int* error) {
+  const auto& s = *static_cast<ZoltanPoints<Dim>*>(data);
+  for (int k = 0; k < n; ++k)
+    for (int d = 0; d < dim; ++d) coordinates[static_cast<std::size_t>(k * dim + d)] = double(s.position[local[k]][d]);
+  *error = ZOLTAN_OK;
 }
 
 #else
@@ -266,6 +305,235 @@ void gather_particles(const ParticleSet<Dim>& particles, ParticleSet<Dim>& whole
   }
 }
 
+
+namespace {
+
+/// Appends particles `which` of `particles` to `out`: their count, global ids (`id` of each local
+/// particle), positions, volumes and every field, each as one block.
+template <int Dim>
+void pack_particles(const ParticleSet<Dim>& particles, std::span<const Index> id, std::span<const Index> which,
+                    std::vector<std::byte>& out) {
+  const auto append = [&](const void* data, std::size_t bytes) {
+    const std::size_t at = out.size();
+    out.resize(at + bytes);
+    if (bytes) std::memcpy(out.data() + at, data, bytes);
+  };
+  const std::uint64_t count = which.size();
+  append(&count, sizeof(count));
+  for (const Index i : which) append(&id[i], sizeof(Index));
+  for (const Index i : which) append(&particles.position[i], sizeof(Vec<Dim>));
+  for (const Index i : which) append(&particles.volume[i], sizeof(Real));
+  for (const auto& f : particles.fields()) f->pack(which, out);
+}
+
+/// The global ids of a message of pack_particles.
+inline std::vector<Index> packed_ids(const std::vector<std::byte>& in) {
+  std::uint64_t count = 0;
+  if (in.empty()) return {};
+  std::memcpy(&count, in.data(), sizeof(count));
+  std::vector<Index> ids(count);
+  if (count) std::memcpy(ids.data(), in.data() + sizeof(count), count * sizeof(Index));
+  return ids;
+}
+
+/// Writes the particles of a message of pack_particles to the local places `where`.
+template <int Dim>
+void unpack_particles(ParticleSet<Dim>& particles, const std::vector<std::byte>& in, std::span<const Index> where) {
+  if (in.empty()) return;
+  const std::byte* at = in.data() + sizeof(std::uint64_t) + where.size() * sizeof(Index);
+  for (const Index i : where) {
+    std::memcpy(static_cast<void*>(&particles.position[i]), at, sizeof(Vec<Dim>));
+    at += sizeof(Vec<Dim>);
+  }
+  for (const Index i : where) {
+    std::memcpy(&particles.volume[i], at, sizeof(Real));
+    at += sizeof(Real);
+  }
+  for (const auto& f : particles.fields()) at += f->unpack(where, at);
+}
+
+/// Sends list[q] of the local particles to every rank q and makes what arrives the local particles
+/// [first, first + arriving), in increasing global id; returns their global ids and, per sender,
+/// the places its particles went to (in the order it sent them).
+template <int Dim>
+std::pair<std::vector<Index>, std::vector<std::vector<Index>>> send_particles(
+    ParticleSet<Dim>& particles, std::span<const Index> id, const std::vector<std::vector<Index>>& list,
+    std::size_t first, const Communicator& comm) {
+  std::vector<std::vector<std::byte>> send(list.size());
+  for (std::size_t q = 0; q < list.size(); ++q) pack_particles<Dim>(particles, id, list[q], send[q]);
+  const auto receive = comm.exchange(send);
+  std::vector<std::pair<Index, std::pair<std::size_t, std::size_t>>> arriving;  // (id, (sender, k))
+  std::vector<std::vector<Index>> ids(receive.size()), where(receive.size());
+  for (std::size_t q = 0; q < receive.size(); ++q) {
+    ids[q] = packed_ids(receive[q]);
+    for (std::size_t k = 0; k < ids[q].size(); ++k) arriving.push_back({ids[q][k], {q, k}});
+    where[q].resize(ids[q].size());
+  }
+  std::sort(arriving.begin(), arriving.end());
+  std::vector<Index> arrived(arriving.size());
+  for (std::size_t m = 0; m < arriving.size(); ++m) {
+    arrived[m] = arriving[m].first;
+    where[arriving[m].second.first][arriving[m].second.second] = static_cast<Index>(first + m);
+  }
+  particles.resize(first + arriving.size());
+  for (std::size_t q = 0; q < receive.size(); ++q) unpack_particles<Dim>(particles, receive[q], where[q]);
+  return {std::move(arrived), std::move(where)};
+}
+
+}  // namespace
+
+#ifdef CARDIOSPH_WITH_MPI
+
+template <int Dim>
+struct MovingPartition<Dim>::Cuts {
+  Zoltan_Struct* zz = nullptr;
+  ZoltanPoints<Dim> points;
+  ~Cuts() {
+    if (zz) Zoltan_Destroy(&zz);
+  }
+  void cut(const Communicator& comm) {
+    if (!zz) {
+      initialise_zoltan();
+      zz = Zoltan_Create(*static_cast<const MPI_Comm*>(comm.native_handle()));
+      Zoltan_Set_Param(zz, "DEBUG_LEVEL", "0");
+      Zoltan_Set_Param(zz, "LB_METHOD", "RCB");
+      Zoltan_Set_Param(zz, "NUM_GID_ENTRIES", "1");
+      Zoltan_Set_Param(zz, "NUM_LID_ENTRIES", "1");
+      Zoltan_Set_Param(zz, "OBJ_WEIGHT_DIM", "0");
+      Zoltan_Set_Param(zz, "RETURN_LISTS", "NONE");
+      Zoltan_Set_Param(zz, "KEEP_CUTS", "1");
+      Zoltan_Set_Num_Obj_Fn(zz, points_count<Dim>, &points);
+      Zoltan_Set_Obj_List_Fn(zz, points_list<Dim>, &points);
+      Zoltan_Set_Num_Geom_Fn(zz, slice_dimension<Dim>, &points);
+      Zoltan_Set_Geom_Multi_Fn(zz, points_geometry<Dim>, &points);
+    }
+    int changes = 0, n_gid = 0, n_lid = 0, n_import = 0, n_export = 0;
+    ZOLTAN_ID_PTR ig = nullptr, il = nullptr, eg = nullptr, el = nullptr;
+    int *ip = nullptr, *it = nullptr, *ep = nullptr, *et = nullptr;
+    const int status = Zoltan_LB_Partition(zz, &changes, &n_gid, &n_lid, &n_import, &ig, &il, &ip, &it, &n_export, &eg,
+                                           &el, &ep, &et);
+    Zoltan_LB_Free_Part(&ig, &il, &ip, &it);
+    Zoltan_LB_Free_Part(&eg, &el, &ep, &et);
+    if (status != ZOLTAN_OK) throw std::runtime_error("distribution: Zoltan's partition failed (code " + std::to_string(status) + ")");
+  }
+  int owner(const Vec<Dim>& x) const {
+    double c[3] = {0, 0, 0};
+    for (int d = 0; d < Dim; ++d) c[d] = double(x[d]);
+    int proc = -1, part = -1;
+    if (Zoltan_LB_Point_PP_Assign(zz, c, &proc, &part) != ZOLTAN_OK || part < 0)
+      throw std::runtime_error("distribution: Zoltan placed no rank at " + std::to_string(c[0]));
+    return part;
+  }
+  /// The ranks whose regions meet the box of half-width r around x.
+  void near(const Vec<Dim>& x, Real r, std::vector<int>& parts, std::vector<int>& procs) const {
+    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    for (int d = 0; d < Dim; ++d) {
+      lo[d] = double(x[d] - r);
+      hi[d] = double(x[d] + r);
+    }
+    int n_procs = 0, n_parts = 0;
+    if (Zoltan_LB_Box_PP_Assign(zz, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], procs.data(), &n_procs, parts.data(),
+                                &n_parts) != ZOLTAN_OK)
+      throw std::runtime_error("distribution: Zoltan's box assignment failed");
+    parts.resize(static_cast<std::size_t>(n_parts));
+  }
+};
+
+#else
+
+template <int Dim>
+struct MovingPartition<Dim>::Cuts {};
+
+#endif
+
+template <int Dim>
+MovingPartition<Dim>::MovingPartition(Real ghost_radius, std::size_t rebalance_interval, const Communicator& comm)
+    : cuts_(std::make_unique<Cuts>()), ghost_radius_(ghost_radius), interval_(std::max<std::size_t>(rebalance_interval, 1)),
+      comm_(comm) {
+  if (!(ghost_radius > 0)) throw std::invalid_argument("distribution: the ghost radius must be positive");
+}
+
+template <int Dim>
+MovingPartition<Dim>::~MovingPartition() = default;
+
+template <int Dim>
+void MovingPartition<Dim>::update(ParticleSet<Dim>& particles) {
+  if (comm_.size() == 1) return;
+#ifdef CARDIOSPH_WITH_MPI
+  const std::size_t ranks = static_cast<std::size_t>(comm_.size()), me = static_cast<std::size_t>(comm_.rank());
+  std::size_t n_global = 0;
+  std::vector<Index> id;  // global id of every local particle
+  std::size_t n_owned = 0;
+  if (!particles.partition()) {
+    // Every rank holds the whole set: keep a slice of it as owned until the first cut.
+    if (updates_ > 0) throw std::logic_error("particle set '" + particles.name() + "' lost its partition");
+    n_global = particles.n_particles();
+    if (double(n_global) != comm_.min(double(n_global)) || double(n_global) != comm_.max(double(n_global)))
+      throw std::invalid_argument("particle set '" + particles.name() + "': the ranks built different particle sets (" +
+                                  std::to_string(n_global) + " particles on rank " + std::to_string(me) + ")");
+    if (n_global < ranks)
+      throw std::invalid_argument("particle set '" + particles.name() + "' has " + std::to_string(n_global) +
+                                  " particles for " + std::to_string(ranks) + " ranks; run on fewer ranks");
+    for (std::size_t g = n_global * me / ranks; g < n_global * (me + 1) / ranks; ++g) id.push_back(static_cast<Index>(g));
+    particles.select(id);
+    n_owned = id.size();
+  } else {
+    const auto& p = *particles.partition();
+    n_global = p.n_global;
+    n_owned = p.n_owned;
+    id = p.global_id;
+  }
+  auto& cuts = *cuts_;
+  if (updates_ % interval_ == 0) {
+    cuts.points.position.assign(particles.position.begin(), particles.position.begin() + static_cast<std::ptrdiff_t>(n_owned));
+    cuts.points.id.assign(id.begin(), id.begin() + static_cast<std::ptrdiff_t>(n_owned));
+    cuts.cut(comm_);
+    ++rebalances_;
+  }
+  ++updates_;
+
+  // 1. Every owned particle to the rank of its region (this one included).
+  std::vector<std::vector<Index>> go(ranks);
+  for (std::size_t i = 0; i < n_owned; ++i) go[static_cast<std::size_t>(cuts.owner(particles.position[i]))].push_back(static_cast<Index>(i));
+  auto [owned, arrived_from] = send_particles<Dim>(particles, id, go, 0, comm_);
+  (void)arrived_from;
+
+  // 2. Ghosts: each owned particle to the other ranks whose regions lie within the ghost radius.
+  std::vector<std::vector<Index>> ghost_to(ranks);
+  std::vector<int> parts(ranks), procs(ranks);
+  for (std::size_t i = 0; i < owned.size(); ++i) {
+    parts.resize(ranks);
+    cuts.near(particles.position[i], ghost_radius_, parts, procs);
+    for (const int q : parts)
+      if (static_cast<std::size_t>(q) != me) ghost_to[static_cast<std::size_t>(q)].push_back(static_cast<Index>(i));
+  }
+  auto [ghosts, ghost_places] = send_particles<Dim>(particles, owned, ghost_to, owned.size(), comm_);
+
+  auto partition = std::make_shared<Partition<Dim>>();
+  partition->n_global = n_global;
+  partition->n_owned = owned.size();
+  partition->global_id = owned;
+  partition->global_id.insert(partition->global_id.end(), ghosts.begin(), ghosts.end());
+  partition->id_order.resize(partition->global_id.size());
+  std::vector<Index> local(partition->global_id.size());
+  for (std::size_t k = 0; k < local.size(); ++k) local[k] = static_cast<Index>(k);
+  std::merge(local.begin(), local.begin() + static_cast<std::ptrdiff_t>(owned.size()),
+             local.begin() + static_cast<std::ptrdiff_t>(owned.size()), local.end(), partition->id_order.begin(),
+             [&](Index a, Index b) { return partition->global_id[a] < partition->global_id[b]; });
+  Vec<Dim> lower = Vec<Dim>::Constant(std::numeric_limits<Real>::max());
+  for (std::size_t i = 0; i < owned.size(); ++i) lower = lower.cwiseMin(particles.position[i]);
+  for (int d = 0; d < Dim; ++d) lower[d] = static_cast<Real>(comm_.min(double(lower[d])));
+  partition->grid_origin = lower;
+  partition->send = std::move(ghost_to);
+  partition->receive = std::move(ghost_places);
+  particles.set_partition(std::move(partition));
+#else
+  (void)particles;
+#endif
+}
+
+template class MovingPartition<2>;
+template class MovingPartition<3>;
 template void distribute<2>(ParticleSet<2>&, Real, const Communicator&);
 template void distribute<3>(ParticleSet<3>&, Real, const Communicator&);
 template GlobalParticle<2> first_over_ranks<2>(const ParticleSet<2>&, std::size_t);

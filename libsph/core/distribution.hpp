@@ -15,11 +15,15 @@
 // over particles (global_sum) gather the terms in global-id order and add them as a serial run's
 // parallel_sum does. On one rank (or a serial build) every function here is the identity.
 
+#include <cmath>
 #include <cstring>
+#include <limits>
+#include <memory>
 #include <span>
 #include <vector>
 
 #include "libsph/core/communicator.hpp"
+#include "libsph/core/exact_sum.hpp"
 #include "libsph/core/parallel.hpp"
 #include "libsph/core/particles.hpp"
 
@@ -30,6 +34,41 @@ namespace sph {
 /// the set. Fields registered before are distributed with the particles.
 template <int Dim>
 void distribute(ParticleSet<Dim>& particles, Real ghost_radius, const Communicator& comm = Communicator::world());
+
+/// The partition of a particle set that moves (a fluid): each rank owns the particles inside its
+/// region of Zoltan's recursive coordinate bisection of space (the cuts kept, KEEP_CUTS) and holds as
+/// ghosts the other ranks' particles within the ghost radius of its region (Zoltan's box
+/// assignment). update() moves the particles that crossed into another rank's region to that rank,
+/// every field with them (one message per pair of ranks, sizes sent first), then gathers the ghosts
+/// anew; every `rebalance_interval` updates it cuts the regions again at the particles' current
+/// positions, equal counts per rank. Owned particles and ghosts are each kept in global-id order
+/// (partition.hpp). A fluid's relations order their sources by position (SourceOrder::by_position),
+/// so where a particle is owned changes no result. One rank (or a serial build): nothing happens.
+template <int Dim>
+class MovingPartition {
+ public:
+  explicit MovingPartition(Real ghost_radius, std::size_t rebalance_interval = 20,
+                           const Communicator& comm = Communicator::world());
+  ~MovingPartition();
+  MovingPartition(const MovingPartition&) = delete;
+  MovingPartition& operator=(const MovingPartition&) = delete;
+
+  /// The first call distributes the whole set that every rank holds (the same on every rank; throws
+  /// std::invalid_argument otherwise, or with fewer particles than ranks); later calls move the
+  /// particles of the set it distributed. Relations and particle indices held elsewhere must be
+  /// rebuilt afterwards.
+  void update(ParticleSet<Dim>& particles);
+  /// Updates so far, and how many of them cut the regions anew.
+  std::size_t updates() const { return updates_; }
+  std::size_t rebalances() const { return rebalances_; }
+
+ private:
+  struct Cuts;
+  std::unique_ptr<Cuts> cuts_;
+  Real ghost_radius_;
+  std::size_t interval_, updates_ = 0, rebalances_ = 0;
+  const Communicator& comm_;
+};
 
 /// The communicator of a set: the world for a distributed set; nullptr for a serial one.
 template <int Dim>
@@ -108,6 +147,19 @@ double global_sum(const ParticleSet<Dim>& particles, Term&& term) {
   return parallel_sum(all.size(), 0.0, [&](std::size_t i) { return all[i]; });
 }
 
+/// Sum of term(i) over the owned particles of every rank, exactly accumulated (exact_sum.hpp): the
+/// same bits for any order of the particles, thread count and rank count, with one small message
+/// per rank. For sets whose particles move between ranks and in memory (fluids).
+template <int Dim, class Term>
+double global_exact_sum(const ParticleSet<Dim>& particles, Term&& term) {
+  if (!particles.partition()) return exact_sum(particles.n_particles(), term);
+  ExactSum local;
+  for (std::size_t i = 0; i < particles.n_owned(); ++i) local.add(double(term(i)));
+  ExactSum total;
+  for (const auto& part : Communicator::world().all_gather(local.bytes())) total.add(ExactSum::from_bytes(part));
+  return total.value();
+}
+
 /// The particle named in a failure found on some rank: the lowest global id over the ranks of
 /// the owned particles for which a rank reports a problem (`local` = its first such owned index,
 /// or n_owned() if none), with its position. found is false on every rank if no rank has one.
@@ -119,6 +171,21 @@ struct GlobalParticle {
 };
 template <int Dim>
 GlobalParticle<Dim> first_over_ranks(const ParticleSet<Dim>& particles, std::size_t local);
+
+/// On every rank, the `value` that the owner of `particle` (found by first_over_ranks from
+/// `local`) passes; other ranks' values are ignored. A non-finite value arrives as NaN. Serial:
+/// `value` itself.
+template <int Dim>
+double value_of_owner(const ParticleSet<Dim>& particles, const GlobalParticle<Dim>& particle, std::size_t local, double value) {
+  const Partition<Dim>* p = particles.partition();
+  if (!p) return value;
+  const bool mine = local < p->n_owned && p->global_id[local] == particle.id;
+  // (a non-finite value travels as the largest double, which no finite quantity here reaches)
+  const double big = std::numeric_limits<double>::max();
+  const double sent = mine ? (std::isfinite(value) ? value : big) : -std::numeric_limits<double>::infinity();
+  const double got = Communicator::world().max(sent);
+  return got == big ? std::numeric_limits<double>::quiet_NaN() : got;
+}
 
 /// The whole set in global-id order (positions, volumes, every field) at rank 0, written into
 /// `whole` (resized and given the fields of `particles` on first use); other ranks leave it empty.

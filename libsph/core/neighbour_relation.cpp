@@ -51,7 +51,7 @@ void add_periodic_images(NeighbourList<Dim>& list, std::span<const Vec<Dim>> sou
 template <int Dim, class Kernel>
 void fill_relation(NeighbourList<Dim>& list, std::span<const Vec<Dim>> targets, std::span<const Vec<Dim>> sources_in,
                    Real h, bool exclude_self, const PeriodicBox<Dim>* box = nullptr, bool keep_candidates = true,
-                   const Partition<Dim>* partition = nullptr) {
+                   const Partition<Dim>* partition = nullptr, SourceOrder source_order = SourceOrder::by_index) {
   if (!(h > 0)) throw std::invalid_argument("neighbour relation: smoothing length must be positive");
   const Real support = Kernel::support_radius(h);
   const Real support2 = support * support;
@@ -71,6 +71,7 @@ void fill_relation(NeighbourList<Dim>& list, std::span<const Vec<Dim>> targets, 
   } else {
     list.cells.rebuild(sources, support);
   }
+  if (source_order == SourceOrder::by_position) list.cells.order_by_position(sources);
   const auto& cells = list.cells;
   const std::size_t n = targets.size();
   list.smoothing_length = h;
@@ -136,9 +137,21 @@ void rebuild_inner_relation(InnerRelation<Dim>& relation, std::span<const Vec<Di
 
 template <int Dim>
 void rebuild_contact_relation(ContactRelation<Dim>& relation, std::span<const Vec<Dim>> targets,
-                              std::span<const Vec<Dim>> sources, const AnyKernel<Dim>& kernel, Real smoothing_length) {
-  std::visit([&]<class K>(const K&) { fill_relation<Dim, K>(relation, targets, sources, smoothing_length, false); },
-             kernel);
+                              std::span<const Vec<Dim>> sources, const AnyKernel<Dim>& kernel, Real smoothing_length,
+                              SourceOrder order) {
+  std::visit([&]<class K>(const K&) {
+    fill_relation<Dim, K>(relation, targets, sources, smoothing_length, false, nullptr, true, nullptr, order);
+  }, kernel);
+}
+
+template <int Dim>
+void rebuild_inner_relation(InnerRelation<Dim>& relation, const ParticleSet<Dim>& particles, const AnyKernel<Dim>& kernel,
+                            Real smoothing_length, const PeriodicBox<Dim>& box, SourceOrder order) {
+  const std::span<const Vec<Dim>> all = particles.position;
+  std::visit([&]<class K>(const K&) {
+    fill_relation<Dim, K>(relation, all.first(particles.n_owned()), all, smoothing_length, true, &box, true,
+                          particles.partition(), order);
+  }, kernel);
 }
 
 template <int Dim>
@@ -209,9 +222,13 @@ std::vector<std::vector<Index>> brute_force_neighbours(std::span<const Vec<Dim>>
 template void rebuild_inner_relation<2>(InnerRelation<2>&, std::span<const Vec<2>>, const AnyKernel<2>&, Real);
 template void rebuild_inner_relation<3>(InnerRelation<3>&, std::span<const Vec<3>>, const AnyKernel<3>&, Real);
 template void rebuild_contact_relation<2>(ContactRelation<2>&, std::span<const Vec<2>>, std::span<const Vec<2>>,
-                                          const AnyKernel<2>&, Real);
+                                          const AnyKernel<2>&, Real, SourceOrder);
 template void rebuild_contact_relation<3>(ContactRelation<3>&, std::span<const Vec<3>>, std::span<const Vec<3>>,
-                                          const AnyKernel<3>&, Real);
+                                          const AnyKernel<3>&, Real, SourceOrder);
+template void rebuild_inner_relation<2>(InnerRelation<2>&, const ParticleSet<2>&, const AnyKernel<2>&, Real,
+                                        const PeriodicBox<2>&, SourceOrder);
+template void rebuild_inner_relation<3>(InnerRelation<3>&, const ParticleSet<3>&, const AnyKernel<3>&, Real,
+                                        const PeriodicBox<3>&, SourceOrder);
 template void rebuild_inner_relation<2>(InnerRelation<2>&, std::span<const Vec<2>>, const AnyKernel<2>&, Real,
                                         const PeriodicBox<2>&);
 template void rebuild_inner_relation<3>(InnerRelation<3>&, std::span<const Vec<3>>, const AnyKernel<3>&, Real,

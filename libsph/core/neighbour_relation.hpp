@@ -150,6 +150,14 @@ struct InnerRelation : NeighbourList<Dim> {};
 template <int Dim>
 struct ContactRelation : NeighbourList<Dim> {};
 
+/// The order in which the sources of a cell enter a row, which decides the bits of every pair sum:
+///   by_index     by source index: for particles that keep their place in memory (solids, walls);
+///   by_position  lexicographically by position (x, then y, then z; ties by index): a row is then the
+///                same wherever its particles sit in memory, so a fluid that is re-sorted along the
+///                cells, or whose particles migrate between ranks, sums its pairs in the same order
+///                (re-sorting changes the speed only; any rank count gives the bits of one rank).
+enum class SourceOrder { by_index, by_position };
+
 /// Neighbours of every particle of `positions` among the same particles.
 template <int Dim>
 InnerRelation<Dim> build_inner_relation(std::span<const Vec<Dim>> positions, const AnyKernel<Dim>& kernel,
@@ -174,12 +182,20 @@ void rebuild_inner_relation(InnerRelation<Dim>& relation, std::span<const Vec<Di
 /// Rebuilds the contact relation at new positions, reusing its storage.
 template <int Dim>
 void rebuild_contact_relation(ContactRelation<Dim>& relation, std::span<const Vec<Dim>> targets,
-                              std::span<const Vec<Dim>> sources, const AnyKernel<Dim>& kernel, Real smoothing_length);
+                              std::span<const Vec<Dim>> sources, const AnyKernel<Dim>& kernel, Real smoothing_length,
+                              SourceOrder order = SourceOrder::by_index);
 
 /// Rebuilds the inner relation with periodic images across the periodic axes of `box`.
 template <int Dim>
 void rebuild_inner_relation(InnerRelation<Dim>& relation, std::span<const Vec<Dim>> positions,
                             const AnyKernel<Dim>& kernel, Real smoothing_length, const PeriodicBox<Dim>& box);
+
+/// Rebuilds the inner relation of a particle set that moves (fluids): the particles a rank computes
+/// (its owned ones; all in a serial run) among all its local ones, with periodic images across the
+/// periodic axes of `box` (a serial set only), sources in `order`.
+template <int Dim>
+void rebuild_inner_relation(InnerRelation<Dim>& relation, const ParticleSet<Dim>& particles, const AnyKernel<Dim>& kernel,
+                            Real smoothing_length, const PeriodicBox<Dim>& box, SourceOrder order);
 
 /// Rebuilds the contact relation with periodic images of the sources across the periodic axes of `box`.
 template <int Dim>
@@ -200,9 +216,9 @@ extern template ContactRelation<2> build_contact_relation<2>(std::span<const Vec
 extern template void rebuild_inner_relation<2>(InnerRelation<2>&, std::span<const Vec<2>>, const AnyKernel<2>&, Real);
 extern template void rebuild_inner_relation<3>(InnerRelation<3>&, std::span<const Vec<3>>, const AnyKernel<3>&, Real);
 extern template void rebuild_contact_relation<2>(ContactRelation<2>&, std::span<const Vec<2>>, std::span<const Vec<2>>,
-                                                 const AnyKernel<2>&, Real);
+                                                 const AnyKernel<2>&, Real, SourceOrder);
 extern template void rebuild_contact_relation<3>(ContactRelation<3>&, std::span<const Vec<3>>, std::span<const Vec<3>>,
-                                                 const AnyKernel<3>&, Real);
+                                                 const AnyKernel<3>&, Real, SourceOrder);
 extern template ContactRelation<3> build_contact_relation<3>(std::span<const Vec<3>>, std::span<const Vec<3>>,
                                                              const AnyKernel<3>&, Real);
 

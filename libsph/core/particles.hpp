@@ -50,6 +50,8 @@ class FieldArrayBase {
   virtual std::size_t bytes_per_particle() const = 0;
   /// values[k] = old values[order[k]] for every k of `order` (the new size).
   virtual void select(std::span<const Index> order) = 0;
+  /// Keeps the first n values, or appends default ones up to n.
+  virtual void resize(std::size_t n) = 0;
   /// Saves or loads the values under the field's name (checkpoints).
   virtual void checkpoint(StateArchive& archive) = 0;
   /// Appends the bytes of the values of `which` to `out` (messages between ranks; plain data only).
@@ -73,6 +75,7 @@ class FieldArray final : public FieldArrayBase {
   std::size_t size() const override { return values.size(); }
   std::size_t bytes_per_particle() const override { return sizeof(T); }
   void select(std::span<const Index> order) override { select_values(values, order, scratch_); }
+  void resize(std::size_t n) override { values.resize(n); }
   void checkpoint(StateArchive& archive) override {
     if constexpr (is_plain_data_v<T>) archive.io(name(), values);
     else throw std::logic_error("field '" + name() + "' cannot be checkpointed: its values are not plain data");
@@ -210,6 +213,16 @@ class ParticleSet {
     select_values(position, order, position_scratch_);
     select_values(volume, order, volume_scratch_);
     for (auto& f : fields_) f->select(order);
+  }
+
+  /// Keeps the first n particles, or appends particles at the origin with no volume and default
+  /// field values up to n, and drops the partition: for a distributed set whose particles arrive in
+  /// messages (distribution.cpp), which sets its new partition once they are in place.
+  void resize(std::size_t n) {
+    partition_.reset();
+    position.resize(n, VecD::Zero());
+    volume.resize(n, Real(0));
+    for (auto& f : fields_) f->resize(n);
   }
 
   /// Saves or loads the positions, the volumes and every registered field (checkpoints). Loading

@@ -47,9 +47,11 @@ class PointProbes {
   }
 
   /// Recomputes the weights for particles now at `positions` (probes in the current configuration).
+  /// The particles enter each probe's sums in the order of their positions (SourceOrder::by_position),
+  /// so a sample does not depend on the order in which they are stored or gathered.
   /// Throws std::invalid_argument naming the probe when too few particles surround it.
   void update(std::span<const Vec<Dim>> positions, std::span<const Real> volumes) {
-    rebuild_contact_relation<Dim>(relation_, points_, positions, kernel_, smoothing_length_);
+    rebuild_contact_relation<Dim>(relation_, points_, positions, kernel_, smoothing_length_, SourceOrder::by_position);
     weight_.resize(relation_.n_pairs());
     offset_.resize(relation_.n_pairs());
     using Matrix = Eigen::Matrix<double, Dim + 1, Dim + 1>;

@@ -130,7 +130,27 @@ template <int Dim>
 WeaklyCompressibleFluid<Dim>::~WeaklyCompressibleFluid() = default;
 
 template <int Dim>
+void WeaklyCompressibleFluid<Dim>::distribute(std::size_t rebalance_interval) {
+  const std::string body = "fluid '" + particles_.name() + "'";
+  if (partition_) throw std::logic_error(body + " is already distributed");
+  if (Communicator::world().size() == 1) return;
+  if (settings_.periodic.any()) throw std::invalid_argument(body + ": periodic axes do not run on several MPI ranks yet");
+  for (const auto& w : walls_)
+    if (w->record)
+      throw std::invalid_argument(body + ": the forces on wall '" + w->wall->particles().name() +
+                                  "' are recorded (a body in the fluid), which does not run on several MPI ranks yet");
+  // Ghosts out to the kernel support: the pair list is rebuilt at every advection step, and the
+  // particles a row reads are fixed in between.
+  const Real support = std::visit([&](const auto& k) { return k.support_radius(settings_.smoothing_length); }, settings_.kernel);
+  partition_ = std::make_unique<MovingPartition<Dim>>(support, rebalance_interval);
+  partition_->update(particles_);
+}
+
+template <int Dim>
 std::size_t WeaklyCompressibleFluid<Dim>::add_wall(const FluidWall<Dim>& wall, WallForces forces) {
+  if (partition_ && forces == WallForces::record)
+    throw std::invalid_argument("fluid '" + particles_.name() + "': the forces on wall '" + wall.particles().name() +
+                                "' cannot be recorded on several MPI ranks yet");
   walls_.push_back(std::make_unique<WallContact>());
   auto& contact = *walls_.back();
   contact.wall = &wall;
@@ -181,12 +201,18 @@ void WeaklyCompressibleFluid<Dim>::update_neighbours() {
   auto& x = particles_.position;
   const auto& box = settings_.periodic;
   const Real h = settings_.smoothing_length;
-  if (box.any()) parallel_for(x.size(), [&](std::size_t i) { x[i] = box.wrap(x[i]); });
-  if (settings_.numerics.sort_interval > 0 && rebuilds_ % static_cast<std::size_t>(settings_.numerics.sort_interval) == 0)
-    sort_particles(particles_, Real(2) * h);
-  rebuild_inner_relation<Dim>(inner_, x, settings_.kernel, h, box);
+  if (partition_) {
+    partition_->update(particles_);  // migration and new ghosts; owned particles in global-id order
+  } else {
+    if (box.any()) parallel_for(x.size(), [&](std::size_t i) { x[i] = box.wrap(x[i]); });
+    if (settings_.numerics.sort_interval > 0 && rebuilds_ % static_cast<std::size_t>(settings_.numerics.sort_interval) == 0)
+      sort_particles(particles_, Real(2) * h);
+  }
+  rebuild_inner_relation<Dim>(inner_, particles_, settings_.kernel, h, box, SourceOrder::by_position);
+  const std::span<const Vec<Dim>> owned = std::span<const Vec<Dim>>(x).first(particles_.n_owned());
   for (auto& w : walls_) {
-    rebuild_contact_relation<Dim>(w->relation, x, w->wall->particles().position, settings_.kernel, h, box);
+    // (wall particles keep their places and are the same on every rank: sources by index)
+    rebuild_contact_relation<Dim>(w->relation, owned, w->wall->particles().position, settings_.kernel, h, box);
     if (w->record) w->transpose();
   }
   ++rebuilds_;
@@ -201,7 +227,7 @@ void WeaklyCompressibleFluid<Dim>::reinitialise_density() {
   const auto m = particles_.field(mass_);
   auto rho = particles_.field(density_);
   const Real w0 = kernel_at_zero<Dim>(settings_.kernel, settings_.smoothing_length);
-  parallel_for(particles_.n_particles(), [&](std::size_t i) {
+  parallel_for(particles_.n_owned(), [&](std::size_t i) {
     // sigma_i = sum_j V0_j W_ij with V0 = m / rho0 (fluid) and the wall particles' volumes.
     Real sigma = m[i] / rho0 * w0;
     for (std::size_t k = inner_.offsets[i]; k < inner_.offsets[i + 1]; ++k)
@@ -213,6 +239,7 @@ void WeaklyCompressibleFluid<Dim>::reinitialise_density() {
     const Real summed = rho0 * sigma / sigma0_;
     rho[i] = mode == DensityReinitialisation::free_surface ? std::max(rho[i], summed) : summed;
   });
+  update_ghosts(particles_, rho);
   update_pressure();
 }
 
@@ -242,8 +269,9 @@ void WeaklyCompressibleFluid<Dim>::compute_prior_acceleration() {
   const Vec<Dim> g = settings_.body_force;
   const Real kappa = settings_.numerics.transport_velocity;
   const Real guard = Real(0.01) * h;  // keeps 1 / r finite for near-coincident pairs
-  if (kappa > 0) shift_.resize(particles_.n_particles());
-  parallel_for(particles_.n_particles(), [&](std::size_t i) {
+  const std::size_t owned = particles_.n_owned();
+  if (kappa > 0) shift_.resize(owned);
+  parallel_for(owned, [&](std::size_t i) {
     Vec<Dim> force = Vec<Dim>::Zero();
     Vec<Dim> grad_sigma = Vec<Dim>::Zero();
     Real moment = 0;  // sum_j V_j r_ij dW_ij, -Dim for a full, exact neighbourhood
@@ -288,7 +316,7 @@ void WeaklyCompressibleFluid<Dim>::compute_prior_acceleration() {
   });
   if (kappa > 0) {
     auto& x = particles_.position;
-    parallel_for(x.size(), [&](std::size_t i) { x[i] += shift_[i]; });
+    parallel_for(owned, [&](std::size_t i) { x[i] += shift_[i]; });
   }
 }
 
@@ -338,7 +366,8 @@ void WeaklyCompressibleFluid<Dim>::first_half(Real dt) {
     const Real mu = h * w_dot_e * r / (r * r + Real(0.01) * h * h);
     return -alpha * c0 * mu / rho_avg;
   };
-  parallel_for(n, [&](std::size_t i) {
+  const std::size_t owned = particles_.n_owned();
+  parallel_for(owned, [&](std::size_t i) {
     Vec<Dim> force = Vec<Dim>::Zero();
     const Real two_over_rho = Real(2) / rho[i];
     const Vec<Dim> vi = v[i];
@@ -373,10 +402,9 @@ void WeaklyCompressibleFluid<Dim>::first_half(Real dt) {
     }
     a[i] = force;
   });
-  parallel_for(n, [&](std::size_t i) {
-    v[i] += dt * (a[i] + a_prior[i]);
-    state_[i].velocity = v[i];
-  });
+  parallel_for(owned, [&](std::size_t i) { v[i] += dt * (a[i] + a_prior[i]); });
+  update_ghosts(particles_, v);
+  parallel_for(n, [&](std::size_t i) { state_[i].velocity = v[i]; });
   ++acoustic_steps_;
 }
 
@@ -392,7 +420,8 @@ void WeaklyCompressibleFluid<Dim>::second_half(Real dt) {
   auto& x = particles_.position;
   auto& V = particles_.volume;
   const std::size_t n = particles_.n_particles();
-  parallel_for(n, [&](std::size_t i) { x[i] += Real(0.5) * dt * v[i]; });
+  const std::size_t owned = particles_.n_owned();
+  parallel_for(owned, [&](std::size_t i) { x[i] += Real(0.5) * dt * v[i]; });
   const auto scheme = settings_.numerics.scheme;
   const bool diffusion = scheme == FluidScheme::pressure_diffusion;
   const Real c0 = eos.sound_speed;
@@ -402,7 +431,7 @@ void WeaklyCompressibleFluid<Dim>::second_half(Real dt) {
       scheme == FluidScheme::riemann || diffusion ? Real(1) / (eos.reference_density * c0) : Real(0);
   const Real wall_jump_scale = diffusion ? jump_scale : Real(0);
   const Vec<Dim> g = settings_.body_force;
-  parallel_for(n, [&](std::size_t i) {
+  parallel_for(owned, [&](std::size_t i) {
     Real rate = 0;
     const Vec<Dim> vi = v[i];
     const Real p_i = p[i];
@@ -430,6 +459,7 @@ void WeaklyCompressibleFluid<Dim>::second_half(Real dt) {
     }
     drho[i] = rho[i] * rate;
   });
+  update_ghosts(particles_, drho);
   parallel_for(n, [&](std::size_t i) {
     rho[i] += Real(0.5) * dt * drho[i];
     V[i] = m[i] / rho[i];
@@ -439,7 +469,7 @@ void WeaklyCompressibleFluid<Dim>::second_half(Real dt) {
 template <int Dim>
 Real WeaklyCompressibleFluid<Dim>::max_speed() const {
   const auto v = particles_.field(velocity_);
-  return std::sqrt(parallel_max(v.size(), Real(0), [&](std::size_t i) { return v[i].squaredNorm(); }));
+  return std::sqrt(global_max(particles_, parallel_max(particles_.n_owned(), Real(0), [&](std::size_t i) { return v[i].squaredNorm(); })));
 }
 
 template <int Dim>
@@ -484,16 +514,20 @@ void WeaklyCompressibleFluid<Dim>::check_state(Real time) const {
     }
     return false;
   };
-  const std::size_t bad = first_index_where(particles_.n_particles(), [&](std::size_t i) {
+  const std::size_t bad = first_index_where(particles_.n_owned(), [&](std::size_t i) {
     return !(rho[i] >= Real(0.5) * rho0 && rho[i] <= Real(2) * rho0) || !v[i].allFinite() || outside(i);
   });
-  if (bad == particles_.n_particles()) return;
-  const std::string where = NumericalFailure::format_position(x[bad]);
-  if (!v[bad].allFinite() || !x[bad].allFinite())
-    throw NumericalFailure(particles_.name(), bad, where, time, "velocity", "is not finite");
-  if (outside(bad)) throw NumericalFailure(particles_.name(), bad, where, time, "position", "left the domain box");
-  throw NumericalFailure(particles_.name(), bad, where, time, "density",
-                         std::to_string(rho[bad]) + " left [0.5, 2] rho0 = [" + std::to_string(0.5 * rho0) + ", " +
+  const auto first = first_over_ranks(particles_, bad);  // (the lowest global id on several ranks)
+  if (!first.found) return;
+  const bool mine = bad < particles_.n_owned();
+  const double kind = value_of_owner(particles_, first, bad,
+                                     !mine ? 0.0 : !v[bad].allFinite() || !x[bad].allFinite() ? 1.0 : outside(bad) ? 2.0 : 3.0);
+  const double density = value_of_owner(particles_, first, bad, mine ? double(rho[bad]) : 0.0);
+  const std::string where = NumericalFailure::format_position(first.position);
+  if (kind == 1) throw NumericalFailure(particles_.name(), first.id, where, time, "velocity", "is not finite");
+  if (kind == 2) throw NumericalFailure(particles_.name(), first.id, where, time, "position", "left the domain box");
+  throw NumericalFailure(particles_.name(), first.id, where, time, "density",
+                         std::to_string(density) + " left [0.5, 2] rho0 = [" + std::to_string(0.5 * rho0) + ", " +
                              std::to_string(2 * rho0) + "]");
 }
 
@@ -506,9 +540,9 @@ typename WeaklyCompressibleFluid<Dim>::Energies WeaklyCompressibleFluid<Dim>::en
   const Vec<Dim> g = settings_.body_force;
   const auto& eos = settings_.equation_of_state;
   Energies e;
-  e.kinetic = parallel_sum(v.size(), 0.0, [&](std::size_t i) { return 0.5 * m[i] * v[i].squaredNorm(); });
-  e.potential = parallel_sum(v.size(), 0.0, [&](std::size_t i) { return -double(m[i]) * g.dot(x[i]); });
-  e.internal = parallel_sum(v.size(), 0.0, [&](std::size_t i) { return m[i] * eos.internal_energy(rho[i]); });
+  e.kinetic = global_exact_sum(particles_, [&](std::size_t i) { return 0.5 * m[i] * v[i].squaredNorm(); });
+  e.potential = global_exact_sum(particles_, [&](std::size_t i) { return -double(m[i]) * g.dot(x[i]); });
+  e.internal = global_exact_sum(particles_, [&](std::size_t i) { return m[i] * eos.internal_energy(rho[i]); });
   return e;
 }
 

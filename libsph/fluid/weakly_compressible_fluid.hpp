@@ -73,6 +73,17 @@
 //                   samples of the forces on bodies.
 // A body whose step bounds the fluid's adds that bound with add_acoustic_step_limit.
 //
+// Order of the sums: a row lists its neighbours cell by cell, and within a cell by position
+// (SourceOrder::by_position), and the energies are exact sums (exact_sum.hpp): re-sorting the
+// particles in memory changes the speed only, never a bit of the result.
+//
+// Distribution (distribute()): each rank integrates its owned particles; the ghosts are rebuilt
+// with the neighbours, and updated twice per acoustic step (the velocity after the pressure force,
+// the density rate after the continuity), the ranks then advancing their ghosts' density, pressure
+// and volume themselves with the same arithmetic as the owners; after the density
+// re-initialisation the density once. The time step, the energies and the state check are reduced
+// over the ranks.
+//
 // Failure: after each advection step a particle whose density leaves [0.5, 2] rho0, whose state is
 // not finite, or which leaves the domain box stops the run with a NumericalFailure naming the
 // body, the particle, its position, the time and the quantity.
@@ -87,6 +98,7 @@
 #include <utility>
 #include <vector>
 
+#include "libsph/core/distribution.hpp"
 #include "libsph/core/kernels.hpp"
 #include "libsph/core/neighbour_relation.hpp"
 #include "libsph/core/particles.hpp"
@@ -147,6 +159,15 @@ class WeaklyCompressibleFluid {
   /// 0 and rho0 unless set through the fields before the first step.
   WeaklyCompressibleFluid(ParticleSet<Dim>& particles, Settings settings);
   ~WeaklyCompressibleFluid();
+
+  /// Spreads the particles over the MPI ranks of the run (nothing on one rank): each rank then
+  /// computes the particles in its region of space, which migrate between ranks at every neighbour
+  /// rebuild, the regions cut anew every `rebalance_interval` rebuilds (MovingPartition,
+  /// libsph/core/distribution.hpp); walls stay whole on every rank. Call once the particles' state
+  /// is set. Results are bitwise those of one rank: rows and sums do not depend on where a particle
+  /// is stored (see "Distribution" above). Throws std::invalid_argument for what does not
+  /// distribute yet: periodic axes, walls whose forces are recorded.
+  void distribute(std::size_t rebalance_interval = 20);
 
   /// A wall the fluid cannot cross (must outlive the fluid; its particles are not re-sorted, but
   /// may move); returns its index k. With WallForces::record, wall_forces(k, ...) gives the fluid's
@@ -246,6 +267,7 @@ class WeaklyCompressibleFluid {
   std::vector<WallView> views_;
   std::vector<Vec<Dim>> shift_;  // scratch of the transport-velocity shift
   std::vector<std::function<Real()>> acoustic_limits_;
+  std::unique_ptr<MovingPartition<Dim>> partition_;  // null unless distributed
   // What the pair loops read of a neighbour, packed so that one neighbour costs one cache line
   // instead of three (copied from the fields in the update loops of the acoustic step).
   struct PairState {

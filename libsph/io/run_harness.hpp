@@ -162,8 +162,8 @@ void RunHarness::add_body(ParticleSet<Dim>& body, Real output_interval, std::fun
   auto write = [this, &body, output, whole, prepare = std::move(prepare)](double time) {
     timers_.measure("output_and_sampling", [&] {
       if (prepare) prepare(time);
-      if (!body.partition()) {
-        output->write(body, time);
+      if (!body.partition()) {  // a body every rank holds whole (the walls of a distributed fluid)
+        if (writes_files_) output->write(body, time);
         return;
       }
       if (distributed_output_in_pieces()) {

@@ -768,17 +768,6 @@ void ElasticSolid<Dim>::fail(const GlobalParticle<Dim>& particle, Real time, con
 }
 
 template <int Dim>
-double ElasticSolid<Dim>::value_at(const GlobalParticle<Dim>& particle, std::size_t local, double value) const {
-  const Partition<Dim>* p = particles_.partition();
-  if (!p) return value;
-  const bool mine = local < p->n_owned && p->global_id[local] == particle.id;
-  // (a non-finite value travels as the largest double, which no finite quantity here reaches)
-  const double sent = mine ? (std::isfinite(value) ? value : std::numeric_limits<double>::max()) : -std::numeric_limits<double>::infinity();
-  const double got = Communicator::world().max(sent);
-  return got == std::numeric_limits<double>::max() ? std::numeric_limits<double>::quiet_NaN() : got;
-}
-
-template <int Dim>
 Stage ElasticSolid<Dim>::stage(std::string name) {
   Stage step{std::move(name), [this] { return stable_time_step(); }, {}};
   step.then("half drift", [this](Real t, Real dt) { half_drift(t, dt); })
@@ -811,7 +800,7 @@ void ElasticSolid<Dim>::deformation_and_stress(Real time, Real dt) {
   const Real half = dt / 2;
   const std::size_t bad = compute_deformation_and_stress();
   if (const auto first = first_over_ranks(particles_, bad); first.found) {
-    const double J = value_at(first, bad, bad < particles_.n_owned() ? double(particles_.field(deformation_gradient_)[bad].determinant()) : 0.0);
+    const double J = value_of_owner(particles_, first, bad, bad < particles_.n_owned() ? double(particles_.field(deformation_gradient_)[bad].determinant()) : 0.0);
     const std::string problem = !std::isfinite(J) ? "is not finite"
                                 : J > 0 ? "is inverted at a Gauss point of the particle's cell (J = " + NumericalFailure::format_value(J) + " at the particle)"
                                         : "has J = " + NumericalFailure::format_value(J) + " <= 0 (inverted)";
@@ -842,7 +831,7 @@ void ElasticSolid<Dim>::kick_and_drift(Real time, Real dt) {
   });
   if (const auto first = first_over_ranks(particles_, check.first_bad); first.found) {
     const std::size_t bad = check.first_bad;
-    const bool acceleration_finite = value_at(first, bad, bad < n && a[bad].allFinite() ? 1.0 : 0.0) > 0;
+    const bool acceleration_finite = value_of_owner(particles_, first, bad, bad < n && a[bad].allFinite() ? 1.0 : 0.0) > 0;
     fail(first, time + dt, acceleration_finite ? "velocity" : "acceleration", "is not finite");
   }
   apply_velocity_constraints(time + dt);

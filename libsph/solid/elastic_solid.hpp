@@ -337,8 +337,6 @@ class ElasticSolid {
   void apply_velocity_constraints(Real time);
   /// Undoes the step on every rank and throws NumericalFailure naming the particle (its global id).
   [[noreturn]] void fail(const GlobalParticle<Dim>& particle, Real time, const std::string& quantity, const std::string& problem);
-  /// The `value` that the rank owning `particle` (at local index `local` there) holds, on every rank.
-  double value_at(const GlobalParticle<Dim>& particle, std::size_t local, double value) const;
 
   // The reference geometry of each pair of the relation (same order), in single precision, without
   // the neighbour's volume (so that the pair terms stay exactly antisymmetric): grad0 W_ij =

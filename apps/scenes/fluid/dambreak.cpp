@@ -20,10 +20,12 @@
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <tuple>
 #include <vector>
 
 #include "apps/scenes/fluid/fluid_scenes.hpp"
 #include "geometry/lattice.hpp"
+#include "libsph/core/distribution.hpp"
 #include "libsph/core/point_probes.hpp"
 #include "libsph/io/atomic_file.hpp"
 
@@ -88,6 +90,7 @@ class DamBreakScene final : public Scene {
   }
 
   bool checkpoints() const override { return true; }
+  bool distributes() const override { return true; }
   void run(RunContext& ctx) override {
     using VecD = sph::Vec<Dim>;
     const Real dp = static_cast<Real>(this->dp());
@@ -112,6 +115,7 @@ class DamBreakScene final : public Scene {
     sph::WeaklyCompressibleFluid<Dim> fluid(water, settings);
     fluid.add_wall(tank);
     set_hydrostatic_state<Dim>(fluid, p_.water_height, p_.gravity);
+    fluid.distribute();  // (on several MPI ranks)
     const std::string warning = check_mach_number(reference_speed(), p_.sound_speed);
     if (!warning.empty()) ctx.report.results["mach_warning"] = warning;
 
@@ -134,8 +138,18 @@ class DamBreakScene final : public Scene {
     double& arrival_time = front.arrival_time;
     auto toe = [&] {
       Real x = 0;
-      for (const auto& xi : water.position) x = std::max(x, xi[0]);
-      return double(x) + 0.5 * double(dp);
+      for (std::size_t i = 0; i < water.n_owned(); ++i) x = std::max(x, water.position[i][0]);
+      return double(sph::global_max(water, x)) + 0.5 * double(dp);
+    };
+    // The whole water body's positions, volumes and pressures (gathered in global-id order from
+    // several ranks; the local arrays on one).
+    std::vector<VecD> whole_x;
+    std::vector<Real> whole_volume, whole_pressure;
+    auto gathered = [&] {
+      const auto x = sph::gather_all<Dim, VecD>(water, water.position, whole_x);
+      const auto volume = sph::gather_all<Dim, Real>(water, water.volume, whole_volume);
+      const auto pressure = sph::gather_all<Dim, Real>(water, water.field(fluid.pressure_field()), whole_pressure);
+      return std::make_tuple(x, volume, pressure);
     };
 
     // Pressure probe on the far wall.
@@ -144,8 +158,8 @@ class DamBreakScene final : public Scene {
     probe_point[1] = static_cast<Real>(p_.probe_height);
     if constexpr (Dim == 3) probe_point[2] = static_cast<Real>(p_.depth / 2);
     const auto kernel = sph::make_kernel<Dim>(p_.numerics.discretisation.kernel);
-    sph::PointProbes<Dim> probe({probe_point}, water.position, water.volume, kernel, settings.smoothing_length,
-                                sph::ProbeFit::shepard);
+    const auto [x0, volume0, pressure0] = gathered();
+    sph::PointProbes<Dim> probe({probe_point}, x0, volume0, kernel, settings.smoothing_length, sph::ProbeFit::shepard);
     const double rise_threshold = 0.1 * p_.density * p_.gravity * p_.water_height;
     sph::RunRecord wall_probe;  // the first rise above rise_threshold and the peak
     double& first_rise = wall_probe.value("first_rise", std::numeric_limits<double>::quiet_NaN());
@@ -155,8 +169,10 @@ class DamBreakScene final : public Scene {
     plan.sample_interval = std::min(0.01, p_.end_time / 100);
     plan.observer_columns = {"wall_pressure", "surge_front"};
     plan.observers = [&](const sph::StepInfo& s) {
-      probe.update(water.position, water.volume);
-      const double pressure = probe.sample(0, water.field(fluid.pressure_field()));
+      // (the probe's sums run in the order of the particles' positions: the same on any rank count)
+      const auto [x, volume, p] = gathered();
+      probe.update(x, volume);
+      const double pressure = probe.sample(0, p);
       peak_pressure = std::max(peak_pressure, pressure);
       if (std::isnan(first_rise) && pressure > rise_threshold) first_rise = s.time;
       return std::vector<double>{pressure, toe()};
@@ -174,9 +190,9 @@ class DamBreakScene final : public Scene {
     std::size_t& next_snapshot = snapshot_record.next;
     std::string& snapshots = snapshot_record.text;
     auto take_snapshot = [&](double time) {
-      const auto p = water.field(fluid.pressure_field());
-      for (std::size_t i = 0; i < water.n_particles(); ++i) {
-        const auto& x = water.position[i];
+      const auto [position, volume, p] = gathered();
+      for (std::size_t i = 0; i < position.size(); ++i) {
+        const auto& x = position[i];
         snapshots += std::to_string(time) + "," + std::to_string(x[0]) + "," + std::to_string(x[1]) + "," +
                      std::to_string(Dim == 3 ? double(x[Dim - 1]) : 0.0) + "," + std::to_string(p[i]) + "\n";
       }
@@ -230,13 +246,16 @@ class DamBreakScene final : public Scene {
     const auto ko = rms(koshizuka_oka, std::sqrt(9.81 / 1.0), "koshizuka_oka", true);
     // The other reading of the scaling, T = t sqrt(2 g / a), for the record.
     const auto mm_alt = rms(martin_moyce, 1.0 / std::sqrt(2.0), "", false);
-    sph::write_file_atomically(ctx.output_dir / "surge_front_reference.csv", table);
+    const bool writes = sph::Communicator::world().is_root();
+    if (writes) sph::write_file_atomically(ctx.output_dir / "surge_front_reference.csv", table);
     std::string front_csv = "time,x,T,Z\n";
     for (std::size_t k = 0; k < front_t.size(); ++k)
       front_csv += std::to_string(front_t[k]) + "," + std::to_string(front_x[k]) + "," + std::to_string(front_t[k] * time_scale) +
                    "," + std::to_string(front_x[k] / a) + "\n";
-    sph::write_file_atomically(ctx.output_dir / "surge_front.csv", front_csv);
-    sph::write_file_atomically(ctx.output_dir / "snapshots.csv", snapshots);
+    if (writes) {
+      sph::write_file_atomically(ctx.output_dir / "surge_front.csv", front_csv);
+      sph::write_file_atomically(ctx.output_dir / "snapshots.csv", snapshots);
+    }
 
     auto& report = ctx.report;
     report.reference = "surge front: Martin & Moyce 1952 and Koshizuka & Oka 1996 (Z = x / a against T = t sqrt(g / a), "

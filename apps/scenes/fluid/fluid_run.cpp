@@ -118,7 +118,8 @@ FluidRunSummary run_fluid(sph::WeaklyCompressibleFluid<Dim>& fluid, std::vector<
     ctx.report.results["neighbour_rebuilds"] = fluid.neighbour_rebuilds();
     if (summary.time_loop_seconds > 0)
       ctx.report.results["particle_steps_per_second"] =
-          double(summary.acoustic_steps) * double(body.n_particles()) / summary.time_loop_seconds;
+          double(summary.acoustic_steps) * double(body.partition() ? body.partition()->n_global : body.n_particles()) /
+          summary.time_loop_seconds;
     ctx.report.results["max_mach"] = summary.max_mach;
     ctx.report.results["max_energy_rise_relative"] = summary.max_energy_rise;
     ctx.report.results["fluid_bytes_per_particle"] = body.bytes_per_particle();
