@@ -229,7 +229,7 @@ TEST(PeriodicRelation, RejectsAPeriodShorterThanTwoSupports) {
 TEST(NeighbourSearch, RowsByPositionDoNotDependOnWhereTheParticlesAreStored) {
   const auto points = random_points<3>(3000, 1.0, 20261207);
   sph::ParticleSet<3> a("a", points, std::vector<Real>(points.size(), Real(1)));
-  sph::ParticleSet<3> b = a;
+  sph::ParticleSet<3> b("b", points, std::vector<Real>(points.size(), Real(1)));
   std::vector<Index> order(points.size());
   for (std::size_t k = 0; k < order.size(); ++k) order[k] = static_cast<Index>(k);
   std::mt19937_64 engine(5);
