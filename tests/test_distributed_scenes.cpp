@@ -122,6 +122,11 @@ TEST(DistributedRuns, DamBreakOnTwoAndThreeRanksWritesTheBytesOfOneRank) {
   expect_same_as_one_rank("dambreak --set resolution=20 --set end_time=1.5 --set output_interval=0.5 --set sort_interval=0", {2, 3});
 }
 
+TEST(DistributedRuns, DamBreakIn3DOnTwoRanksWritesTheBytesOfOneRank) {
+  // The same fluid in 3D: 512 water particles, 10,200 wall particles held whole on every rank.
+  expect_same_as_one_rank("dambreak-3d --set resolution=8 --set end_time=0.5 --set output_interval=0.25 --set sort_interval=0", {2});
+}
+
 TEST(DistributedRuns, ASolidFailureNamesTheParticleOfOneRankAndWritesItsLastGoodState) {
   // A time step far above the stable one inverts the cube: every rank stops at the same step, the
   // message names the particle (global id) and time of a one-rank run, and the last good state

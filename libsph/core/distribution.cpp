@@ -18,108 +18,7 @@ namespace {
 
 #ifdef CARDIOSPH_WITH_MPI
 
-/// The objects this rank hands to Zoltan: the slice [begin, end) of the global ids, all of weight 1.
-template <int Dim>
-struct ZoltanSlice {
-  const std::vector<Vec<Dim>>* position;
-  std::size_t begin, end;
-};
-
-template <int Dim>
-int slice_count(void* data, int* error) {
-  const auto& s = *static_cast<ZoltanSlice<Dim>*>(data);
-  *error = ZOLTAN_OK;
-  return static_cast<int>(s.end - s.begin);
-}
-
-template <int Dim>
-void slice_list(void* data, int, int, ZOLTAN_ID_PTR global, ZOLTAN_ID_PTR local, int weight_dim, float* weights,
-                int* error) {
-  const auto& s = *static_cast<ZoltanSlice<Dim>*>(data);
-  for (std::size_t k = 0; k < s.end - s.begin; ++k) {
-    global[k] = static_cast<ZOLTAN_ID_TYPE>(s.begin + k);
-    local[k] = static_cast<ZOLTAN_ID_TYPE>(k);
-    for (int w = 0; w < weight_dim; ++w) weights[k * static_cast<std::size_t>(weight_dim) + static_cast<std::size_t>(w)] = 1.0f;
-  }
-  *error = ZOLTAN_OK;
-}
-
-template <int Dim>
-int slice_dimension(void*, int* error) {
-  *error = ZOLTAN_OK;
-  return Dim;
-}
-
-template <int Dim>
-void slice_geometry(void* data, int, int, int n, ZOLTAN_ID_PTR global, ZOLTAN_ID_PTR, int dim, double* coordinates,
-                    int* error) {
-  const auto& s = *static_cast<ZoltanSlice<Dim>*>(data);
-  for (int k = 0; k < n; ++k)
-    for (int d = 0; d < dim; ++d)
-      coordinates[static_cast<std::size_t>(k * dim + d)] = double((*s.position)[global[k]][d]);
-  *error = ZOLTAN_OK;
-}
-
-/// The rank of every particle: Zoltan's recursive coordinate bisection, each rank contributing a
-/// slice of the global ids, the answer shared with every rank.
-void initialise_zoltan() {
-  static const bool initialised = [] {
-    float version = 0;
-    return Zoltan_Initialize(0, nullptr, &version) == ZOLTAN_OK;
-  }();
-  if (!initialised) throw std::runtime_error("distribution: Zoltan did not initialise");
-}
-
-template <int Dim>
-std::vector<int> owners_by_rcb(const std::vector<Vec<Dim>>& position, const Communicator& comm) {
-  initialise_zoltan();
-  const std::size_t n = position.size(), ranks = static_cast<std::size_t>(comm.size()),
-                    r = static_cast<std::size_t>(comm.rank());
-  ZoltanSlice<Dim> slice{&position, n * r / ranks, n * (r + 1) / ranks};
-  MPI_Comm mpi = *static_cast<const MPI_Comm*>(comm.native_handle());
-  Zoltan_Struct* zz = Zoltan_Create(mpi);
-  Zoltan_Set_Param(zz, "DEBUG_LEVEL", "0");
-  Zoltan_Set_Param(zz, "LB_METHOD", "RCB");
-  Zoltan_Set_Param(zz, "NUM_GID_ENTRIES", "1");
-  Zoltan_Set_Param(zz, "NUM_LID_ENTRIES", "1");
-  Zoltan_Set_Param(zz, "OBJ_WEIGHT_DIM", "1");
-  Zoltan_Set_Param(zz, "RETURN_LISTS", "PARTS");
-  Zoltan_Set_Param(zz, "RCB_RECTILINEAR_BLOCKS", "0");
-  Zoltan_Set_Num_Obj_Fn(zz, slice_count<Dim>, &slice);
-  Zoltan_Set_Obj_List_Fn(zz, slice_list<Dim>, &slice);
-  Zoltan_Set_Num_Geom_Fn(zz, slice_dimension<Dim>, &slice);
-  Zoltan_Set_Geom_Multi_Fn(zz, slice_geometry<Dim>, &slice);
-  int changes = 0, n_gid = 0, n_lid = 0, n_import = 0, n_export = 0;
-  ZOLTAN_ID_PTR import_global = nullptr, import_local = nullptr, export_global = nullptr, export_local = nullptr;
-  int *import_procs = nullptr, *import_to_part = nullptr, *export_procs = nullptr, *export_to_part = nullptr;
-  const int status = Zoltan_LB_Partition(zz, &changes, &n_gid, &n_lid, &n_import, &import_global, &import_local,
-                                         &import_procs, &import_to_part, &n_export, &export_global, &export_local,
-                                         &export_procs, &export_to_part);
-  if (status != ZOLTAN_OK) {
-    Zoltan_Destroy(&zz);
-    throw std::runtime_error("distribution: Zoltan's partition failed (code " + std::to_string(status) + ")");
-  }
-  // With RETURN_LISTS = PARTS the export lists name the part of every object of the slice.
-  std::vector<int> mine(slice.end - slice.begin, static_cast<int>(r));
-  for (int k = 0; k < n_export; ++k) mine[export_global[k] - slice.begin] = export_to_part[k];
-  Zoltan_LB_Free_Part(&import_global, &import_local, &import_procs, &import_to_part);
-  Zoltan_LB_Free_Part(&export_global, &export_local, &export_procs, &export_to_part);
-  Zoltan_Destroy(&zz);
-
-  std::vector<std::byte> bytes(mine.size() * sizeof(int));
-  std::memcpy(bytes.data(), mine.data(), bytes.size());
-  std::vector<int> owner;
-  owner.reserve(n);
-  for (const auto& part : comm.all_gather(bytes)) {
-    const std::size_t count = part.size() / sizeof(int);
-    const std::size_t at = owner.size();
-    owner.resize(at + count);
-    std::memcpy(owner.data() + at, part.data(), part.size());
-  }
-  return owner;
-}
-
-/// The objects of a cut of a moving partition: this rank's owned particles, by local index.
+/// The objects this rank hands to Zoltan: points with their global ids, all of weight 1.
 template <int Dim>
 struct ZoltanPoints {
   std::vector<Vec<Dim>> position;
@@ -145,12 +44,94 @@ void points_list(void* data, int, int, ZOLTAN_ID_PTR global, ZOLTAN_ID_PTR local
 }
 
 template <int Dim>
+int points_dimension(void*, int* error) {
+  *error = ZOLTAN_OK;
+  return Dim;
+}
+
+template <int Dim>
 void points_geometry(void* data, int, int, int n, ZOLTAN_ID_PTR, ZOLTAN_ID_PTR local, int dim, double* coordinates,
                      int* error) {
   const auto& s = *static_cast<ZoltanPoints<Dim>*>(data);
   for (int k = 0; k < n; ++k)
     for (int d = 0; d < dim; ++d) coordinates[static_cast<std::size_t>(k * dim + d)] = double(s.position[local[k]][d]);
   *error = ZOLTAN_OK;
+}
+
+void initialise_zoltan() {
+  static const bool initialised = [] {
+    float version = 0;
+    return Zoltan_Initialize(0, nullptr, &version) == ZOLTAN_OK;
+  }();
+  if (!initialised) throw std::runtime_error("distribution: Zoltan did not initialise");
+}
+
+/// Zoltan's recursive coordinate bisection of every rank's `points` (which must outlive the
+/// returned structure): one part per rank, equal counts. With `parts`, the part of each of this
+/// rank's points; with `keep_cuts`, the cuts stay in the structure for point and box assignment.
+/// The caller destroys the structure.
+template <int Dim>
+Zoltan_Struct* bisect(const Communicator& comm, ZoltanPoints<Dim>& points, bool keep_cuts, std::vector<int>* parts) {
+  initialise_zoltan();
+  Zoltan_Struct* zz = Zoltan_Create(*static_cast<const MPI_Comm*>(comm.native_handle()));
+  Zoltan_Set_Param(zz, "DEBUG_LEVEL", "0");
+  Zoltan_Set_Param(zz, "LB_METHOD", "RCB");
+  Zoltan_Set_Param(zz, "NUM_GID_ENTRIES", "1");
+  Zoltan_Set_Param(zz, "NUM_LID_ENTRIES", "1");
+  Zoltan_Set_Param(zz, "OBJ_WEIGHT_DIM", "1");
+  Zoltan_Set_Param(zz, "RETURN_LISTS", parts ? "PARTS" : "NONE");
+  Zoltan_Set_Param(zz, "RCB_RECTILINEAR_BLOCKS", "0");
+  Zoltan_Set_Param(zz, "KEEP_CUTS", keep_cuts ? "1" : "0");
+  Zoltan_Set_Num_Obj_Fn(zz, points_count<Dim>, &points);
+  Zoltan_Set_Obj_List_Fn(zz, points_list<Dim>, &points);
+  Zoltan_Set_Num_Geom_Fn(zz, points_dimension<Dim>, &points);
+  Zoltan_Set_Geom_Multi_Fn(zz, points_geometry<Dim>, &points);
+  int changes = 0, n_gid = 0, n_lid = 0, n_import = 0, n_export = 0;
+  ZOLTAN_ID_PTR import_global = nullptr, import_local = nullptr, export_global = nullptr, export_local = nullptr;
+  int *import_procs = nullptr, *import_to_part = nullptr, *export_procs = nullptr, *export_to_part = nullptr;
+  const int status = Zoltan_LB_Partition(zz, &changes, &n_gid, &n_lid, &n_import, &import_global, &import_local,
+                                         &import_procs, &import_to_part, &n_export, &export_global, &export_local,
+                                         &export_procs, &export_to_part);
+  if (status == ZOLTAN_OK && parts) {
+    // With RETURN_LISTS = PARTS the export lists name the part of every object of this rank.
+    parts->assign(points.id.size(), comm.rank());
+    for (int k = 0; k < n_export; ++k) (*parts)[export_local[k]] = export_to_part[k];
+  }
+  Zoltan_LB_Free_Part(&import_global, &import_local, &import_procs, &import_to_part);
+  Zoltan_LB_Free_Part(&export_global, &export_local, &export_procs, &export_to_part);
+  if (status != ZOLTAN_OK) {
+    Zoltan_Destroy(&zz);
+    throw std::runtime_error("distribution: Zoltan's partition failed (code " + std::to_string(status) + ")");
+  }
+  return zz;
+}
+
+/// The rank of every particle: each rank hands Zoltan a slice of the global ids; the answer is
+/// shared with every rank.
+template <int Dim>
+std::vector<int> owners_by_rcb(const std::vector<Vec<Dim>>& position, const Communicator& comm) {
+  const std::size_t n = position.size(), ranks = static_cast<std::size_t>(comm.size()),
+                    r = static_cast<std::size_t>(comm.rank());
+  ZoltanPoints<Dim> slice;
+  for (std::size_t g = n * r / ranks; g < n * (r + 1) / ranks; ++g) {
+    slice.position.push_back(position[g]);
+    slice.id.push_back(static_cast<Index>(g));
+  }
+  std::vector<int> mine;
+  Zoltan_Struct* zz = bisect<Dim>(comm, slice, false, &mine);
+  Zoltan_Destroy(&zz);
+
+  std::vector<std::byte> bytes(mine.size() * sizeof(int));
+  std::memcpy(bytes.data(), mine.data(), bytes.size());
+  std::vector<int> owner;
+  owner.reserve(n);
+  for (const auto& part : comm.all_gather(bytes)) {
+    const std::size_t count = part.size() / sizeof(int);
+    const std::size_t at = owner.size();
+    owner.resize(at + count);
+    std::memcpy(owner.data() + at, part.data(), part.size());
+  }
+  return owner;
 }
 
 #else
@@ -392,29 +373,8 @@ struct MovingPartition<Dim>::Cuts {
     if (zz) Zoltan_Destroy(&zz);
   }
   void cut(const Communicator& comm) {
-    if (!zz) {
-      initialise_zoltan();
-      zz = Zoltan_Create(*static_cast<const MPI_Comm*>(comm.native_handle()));
-      Zoltan_Set_Param(zz, "DEBUG_LEVEL", "0");
-      Zoltan_Set_Param(zz, "LB_METHOD", "RCB");
-      Zoltan_Set_Param(zz, "NUM_GID_ENTRIES", "1");
-      Zoltan_Set_Param(zz, "NUM_LID_ENTRIES", "1");
-      Zoltan_Set_Param(zz, "OBJ_WEIGHT_DIM", "0");
-      Zoltan_Set_Param(zz, "RETURN_LISTS", "NONE");
-      Zoltan_Set_Param(zz, "KEEP_CUTS", "1");
-      Zoltan_Set_Num_Obj_Fn(zz, points_count<Dim>, &points);
-      Zoltan_Set_Obj_List_Fn(zz, points_list<Dim>, &points);
-      Zoltan_Set_Num_Geom_Fn(zz, slice_dimension<Dim>, &points);
-      Zoltan_Set_Geom_Multi_Fn(zz, points_geometry<Dim>, &points);
-    }
-    int changes = 0, n_gid = 0, n_lid = 0, n_import = 0, n_export = 0;
-    ZOLTAN_ID_PTR ig = nullptr, il = nullptr, eg = nullptr, el = nullptr;
-    int *ip = nullptr, *it = nullptr, *ep = nullptr, *et = nullptr;
-    const int status = Zoltan_LB_Partition(zz, &changes, &n_gid, &n_lid, &n_import, &ig, &il, &ip, &it, &n_export, &eg,
-                                           &el, &ep, &et);
-    Zoltan_LB_Free_Part(&ig, &il, &ip, &it);
-    Zoltan_LB_Free_Part(&eg, &el, &ep, &et);
-    if (status != ZOLTAN_OK) throw std::runtime_error("distribution: Zoltan's partition failed (code " + std::to_string(status) + ")");
+    if (zz) Zoltan_Destroy(&zz);
+    zz = bisect<Dim>(comm, points, true, nullptr);
   }
   int owner(const Vec<Dim>& x) const {
     double c[3] = {0, 0, 0};

@@ -60,10 +60,17 @@ class ExactSum {
     if (special_ != 0) return special_;
     ExactSum c = *this;
     c.normalise();
+    // A negative sum is held in two's complement (a top limb of -1 over limbs near 2^32): sum its
+    // magnitude and negate, so that no limb far above the sum's magnitude enters.
+    const bool negative = c.limb_[limbs - 1] < 0;
+    if (negative) {
+      for (auto& l : c.limb_) l = -l;
+      c.normalise();
+    }
     double sum = 0;
     for (std::size_t k = limbs; k-- > 0;)
       if (c.limb_[k] != 0) sum += std::ldexp(double(c.limb_[k]), static_cast<int>(32 * k) + base);
-    return sum;
+    return negative ? -sum : sum;
   }
   /// The accumulator as bytes and back (messages between ranks).
   std::vector<std::byte> bytes() const {
