@@ -106,7 +106,9 @@ int run_cli(int argc, const char* const* argv) {
           std::cout << "  errors." << it.key() << " = " << it.value() << '\n';
       }
       if (result.exit_code == exit_interrupted)
-        std::cout << "interrupted; continue with: cardiosph " << name << " --resume " << result.output.string() << '\n';
+        std::cout << "interrupted; continue with: "
+                  << (sph::Communicator::world().size() > 1 ? "mpirun -np " + std::to_string(sph::Communicator::world().size()) + " " : "")
+                  << "cardiosph " << name << " --resume " << result.output.string() << '\n';
       std::cout << "results in " << std::filesystem::absolute(result.output).string() << " (report.json";
       if (std::filesystem::is_directory(result.output))
         for (const auto& file : std::filesystem::directory_iterator(result.output)) {

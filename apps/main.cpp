@@ -20,7 +20,8 @@ int main(int argc, char** argv) {
   }
   const int code = cardiosph::run_cli(argc, argv);
   std::cerr.rdbuf(standard_error);
-  if (world.size() > 1 && code != 0) {
+  // (an interruption is collective: every rank stops after the same step, with code 3)
+  if (world.size() > 1 && code != 0 && code != 3) {
     // An error that only some ranks met (a parameter they read differently, a file one node lacks)
     // would leave the others waiting in a collective: every failing rank ends the run. Rank 0 does
     // so at once with its message printed; another rank waits a moment first, so that an error

@@ -4,16 +4,19 @@
 #include <iostream>
 #include <sstream>
 
+#include "libsph/core/communicator.hpp"
 #include "libsph/io/atomic_file.hpp"
 
 namespace cardiosph {
 
 namespace {
 /// Runs the gnuplot script that writes png + ".partial", then renames it; `data` names the files
-/// that stay complete without the picture.
+/// that stay complete without the picture. On several ranks, rank 0 alone draws (its files are the
+/// run's; the others report success).
 bool run_gnuplot(const std::filesystem::path& folder, const std::string& png, const std::string& script,
                  const std::string& data) {
   namespace fs = std::filesystem;
+  if (!sph::Communicator::world().is_root()) return true;
   const std::string partial = png + ".partial", script_name = png + ".gp";
   sph::write_file_atomically(folder / script_name, script);
   const std::string command = "cd '" + folder.string() + "' && gnuplot '" + script_name + "' 2> gnuplot.log";

@@ -37,7 +37,7 @@ struct CsvScatter {
 bool plot_scatter(const std::filesystem::path& folder, const CsvScatter& scatter);
 
 /// Draws the plot into folder/png (written atomically); returns false, with a note on stderr, if
-/// gnuplot failed or is missing.
+/// gnuplot failed or is missing. Under mpirun only rank 0 draws (as for every file of a run).
 bool plot_csv(const std::filesystem::path& folder, const CsvPlot& plot);
 
 }  // namespace cardiosph

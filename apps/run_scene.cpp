@@ -157,8 +157,6 @@ SceneRunResult run_scene(const std::string& scene_name, const CommonOptions& opt
       throw sph::ParameterError("scene '" + scene_name + "' runs on one rank only, not on the " + std::to_string(world.size()) +
                                 " ranks of this mpirun; scenes that run distributed: " + can);
     }
-    if (wants_checkpoints)
-      throw sph::ParameterError("checkpoints (--checkpoint-interval, --interrupt-at, --resume) are not available in distributed runs");
   }
   if (!(options.checkpoint_interval >= 0) || !std::isfinite(options.checkpoint_interval))
     throw sph::ParameterError("option '--checkpoint-interval' = " + exact(options.checkpoint_interval) + ": must be >= 0 (simulated time)");
@@ -171,7 +169,15 @@ SceneRunResult run_scene(const std::string& scene_name, const CommonOptions& opt
         !extra.empty() || !options.output.empty())
       throw sph::ParameterError("--resume continues a run with its own parameters and folder; --config, --set, --resolution, "
                                 "--end-time, --output and scene options cannot be given with it");
-    const fs::path file = options.resume / sph::checkpoint_file_name;
+    // Each rank resumes from its own part (libsph/io/checkpoint.hpp), on the rank count that wrote them.
+    if (const int written = sph::checkpoint_ranks(options.resume); fs::exists(options.resume / sph::checkpoint_file_name) &&
+                                                                   written != world.size())
+      throw sph::ParameterError("the checkpoint in '" + options.resume.string() + "' was written by " + std::to_string(written) +
+                                " MPI rank" + (written == 1 ? "" : "s") + " and this run has " + std::to_string(world.size()) +
+                                ": resume it on as many (" + (written == 1 ? std::string("without mpirun") : "mpirun -np " + std::to_string(written)) +
+                                "); another rank count would need the particles distributed anew from the gathered state, "
+                                "which --resume does not do");
+    const fs::path file = options.resume / sph::checkpoint_file_of_rank(world.rank());
     checkpoint = std::make_shared<sph::Checkpoint>(sph::read_checkpoint(file));
     if (checkpoint->scene != scene_name)
       throw sph::ParameterError("checkpoint '" + file.string() + "' is of scene '" + checkpoint->scene + "', not '" + scene_name +
@@ -236,7 +242,8 @@ SceneRunResult run_scene(const std::string& scene_name, const CommonOptions& opt
     scene->run(ctx);
   } catch (const sph::RunInterrupted& interrupted) {
     ctx.report.status = "interrupted";
-    ctx.report.message = "stopped on request at simulated time " + exact(interrupted.time()) + "; continue with 'cardiosph " +
+    ctx.report.message = "stopped on request at simulated time " + exact(interrupted.time()) + "; continue with '" +
+                         (world.size() > 1 ? "mpirun -np " + std::to_string(world.size()) + " " : std::string()) + "cardiosph " +
                          scene_name + " --resume " + output.string() + "'";
     result.exit_code = exit_interrupted;
     std::cerr << "cardiosph " << scene_name << ": " << ctx.report.message << '\n';
@@ -257,7 +264,8 @@ SceneRunResult run_scene(const std::string& scene_name, const CommonOptions& opt
   result.report = ctx.report;
   if (!world.is_root()) return result;
   // A completed run leaves nothing to resume; a failed or interrupted one keeps its last checkpoint.
-  if (result.exit_code == exit_ok) fs::remove(staging / sph::checkpoint_file_name);
+  if (result.exit_code == exit_ok)
+    for (int rank = 0; rank < world.size(); ++rank) fs::remove(staging / sph::checkpoint_file_of_rank(rank));
   ctx.report.write(staging / "report.json");
   replace_folder(staging, output);
   if (resuming && fs::exists(options.resume) && !fs::equivalent(options.resume, output)) fs::remove_all(options.resume);

@@ -12,7 +12,12 @@ BoundarySprings::BoundarySprings(sph::ElasticSolid<3>& solid, std::vector<Cavity
     const bool normal_only = surface.label == label_epi;
     has_base = has_base || surface.label == label_base;
     const Real k = normal_only ? pericardium_stiffness : base_stiffness;
-    if (k != 0) springs_.push_back({&surface, k, normal_only});
+    if (k == 0) continue;
+    Spring spring{&surface, k, normal_only, {}};
+    const sph::SharedSelection<3> loaded(solid.particles(), surface.loaded_particles);
+    for (std::size_t m = 0; m < loaded.size(); ++m)
+      if (loaded.owned(m) != loaded.not_owned) spring.owned.emplace_back(m, loaded.owned(m));
+    springs_.push_back(std::move(spring));
   }
   if (!has_base)
     throw std::invalid_argument("boundary springs: no mesh face is labelled base, so the springs have no base to hold "
@@ -25,9 +30,8 @@ void interact(sph::ElasticSolid<3>& on, const BoundarySprings& by, sph::SamePart
   auto& body = on.particles();
   const auto X = body.field(on.reference_position_field());
   const auto force = body.field(on.external_force_field());
-  for (const auto& [surface, k, normal_only] : by.springs())
-    for (std::size_t m = 0; m < surface->loaded_particles.size(); ++m) {
-      const auto i = surface->loaded_particles[m];
+  for (const auto& [surface, k, normal_only, owned] : by.springs())
+    for (const auto& [m, i] : owned) {
       const sph::Vec<3> u = body.position[i] - X[i], A = surface->area_normals[m];
       force[i] -= normal_only ? sph::Vec<3>(k * u.dot(A) / A.norm() * A) : sph::Vec<3>(k * A.norm() * u);
     }

@@ -11,10 +11,12 @@
 // As in the pericardium model of Pfaller et al. 2019 (Biomech. Model. Mechanobiol. 18:503) and
 // Regazzoni et al. 2022 (J. Comput. Phys. 457:111083), without their damping term (the solid's
 // velocity damping stands for it).
+// On a distributed solid each rank adds the forces on the surface particles it owns.
 
 #include <vector>
 
 #include "cardio/cavity.hpp"
+#include "libsph/core/distribution.hpp"
 #include "libsph/core/interaction.hpp"
 #include "libsph/solid/elastic_solid.hpp"
 
@@ -26,6 +28,8 @@ class BoundarySprings {
     const CavitySurface* surface = nullptr;
     Real stiffness = 0;        ///< [force / length^3]: k per area
     bool normal_only = false;  ///< the epicardium: along the normal only
+    /// The surface's loaded particles on this rank: (entry of loaded_particles, owned local index).
+    std::vector<std::pair<std::size_t, sph::Index>> owned;
   };
 
   /// The epicardium (label_epi) and base (label_base) surfaces of cardio::cavity_surfaces, with

@@ -12,6 +12,11 @@
 //     of the circulation's coupled ventricle (cardio/circulation.hpp) at the cavity's current volume V,
 //     taken from the same moved surface (CavitySurface::add_pressure_forces with a pressure of the
 //     volume), so the stiff penalty acts without the lag of a coupling step.
+// On a distributed solid (libsph/core/distribution.hpp) a cavity's surface spans the ranks: every
+// rank gathers the positions and F of the particles under the surface (sph::SharedSelection, one
+// all-gather per load or volume), moves the whole surface as a serial run does, and adds the load
+// to the particles it owns, each in the serial order: volumes, pressures and forces are bitwise
+// those of one rank.
 
 #include <cstddef>
 #include <optional>
@@ -20,6 +25,7 @@
 
 #include "cardio/cavity.hpp"
 #include "cardio/cavity_pressure.hpp"
+#include "libsph/core/distribution.hpp"
 #include "libsph/core/interaction.hpp"
 #include "libsph/solid/elastic_solid.hpp"
 
@@ -42,6 +48,7 @@ class Cavities {
   std::size_t size() const { return surfaces_.size(); }
   /// True if some cavity has a pressure (a mode other than none): the interaction has loads to add.
   bool loaded() const;
+  /// The surface as built (its particle indices are those of the whole set: global ids).
   const CavitySurface& surface(std::size_t c) const { return surfaces_[c]; }
   /// "lv" for the LV endocardium, "rv" otherwise.
   std::string name(std::size_t c) const { return surfaces_[c].label == label_lv_endo ? "lv" : "rv"; }
@@ -57,10 +64,20 @@ class Cavities {
   const sph::ElasticSolid<3>& solid() const { return solid_; }
   /// Saves or loads the pressures and the penalties (checkpoints).
   void checkpoint(sph::StateArchive& archive);
+  /// Adds the pressure loads at the solid's current positions and F to `force` (see interact).
+  void add_loads(Real mid_step_time, std::span<sph::Vec<3>> force) const;
 
  private:
+  /// Positions and F of the particles under the surfaces, in selection order (gathered).
+  void gather_state() const;
+
   const sph::ElasticSolid<3>& solid_;
   std::vector<CavitySurface> surfaces_;
+  sph::SharedSelection<3> under_;       // the particles of every vertex stencil
+  std::vector<CavitySurface> on_under_;  // the surfaces with their stencils indexed into under_
+  std::vector<sph::Vec<3>> X_under_;
+  mutable std::vector<sph::Vec<3>> x_under_, force_under_;
+  mutable std::vector<sph::Mat<3>> F_under_;
   std::vector<CavityPressure> pressures_;
   std::vector<std::optional<VolumePenalty>> penalties_;
 };

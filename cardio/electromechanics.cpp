@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "libsph/core/distribution.hpp"
 #include "libsph/core/parallel.hpp"
 
 namespace cardio {
@@ -43,10 +44,12 @@ void interact(Monodomain<Dim>& on, const sph::ElasticSolid<Dim>& by, sph::SamePa
   const Real D_l = on.settings().longitudinal_diffusivity, D_t = on.settings().transverse_diffusivity;
   std::vector<sph::Mat<Dim>> D(body.n_particles());
   const auto& scale = on.settings().conduction_scale;
-  sph::parallel_for(D.size(), [&](std::size_t i) {
+  // Owned particles from their F; the ghosts' tensors (which the diffusion's pairs average) from their owners.
+  sph::parallel_for(body.n_owned(), [&](std::size_t i) {
     const Real k = scale.empty() ? Real(1) : scale[i];
     D[i] = pulled_back_conduction<Dim>(F[i], f0[i], k * D_l, k * D_t);
   });
+  sph::update_ghosts(body, std::span<sph::Mat<Dim>>(D));
   on.set_diffusion_tensor(std::move(D));
 }
 

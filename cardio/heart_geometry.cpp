@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "libsph/core/communicator.hpp"
 #include "libsph/core/types.hpp"
 #include "libsph/io/atomic_file.hpp"
 
@@ -107,6 +108,7 @@ nlohmann::json statistics_json(const HeartGeometry& g) {
 }
 
 void store(const HeartGeometry& g, const nlohmann::json& settings, const fs::path& file) {
+  if (!sph::Communicator::world().is_root()) return;  // under mpirun every rank built the same; one writes it
   std::string out(magic, sizeof magic);
   const std::string header = nlohmann::json{{"settings", settings}, {"statistics", statistics_json(g)}}.dump();
   put(out, std::vector<char>(header.begin(), header.end()));

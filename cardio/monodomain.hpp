@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "cardio/ep_maps.hpp"
+#include "libsph/core/distribution.hpp"
 #include "libsph/core/neighbour_relation.hpp"
 #include "libsph/core/particles.hpp"
 #include "libsph/core/section_timers.hpp"
@@ -135,9 +136,11 @@ class Monodomain {
   std::size_t steps() const { return timers_.calls("reaction") / 2; }
   /// The share of the cells' reaction half steps taken (1 unless quiescent cells skip steps).
   double reaction_steps_taken() const {
-    const auto blocks = std::visit([](const auto& r) { return r.n_blocks(); }, reaction_);
+    const auto* comm = sph::communicator_of(particles_);  // (on several ranks, every rank's blocks)
+    auto total = [comm](std::size_t count) { return comm ? std::size_t(comm->sum(count)) : count; };
+    const auto blocks = total(std::visit([](const auto& r) { return r.n_blocks(); }, reaction_));
     const std::size_t possible = blocks * timers_.calls("reaction");
-    return possible ? double(std::visit([](const auto& r) { return r.block_steps(); }, reaction_)) / double(possible) : 1.0;
+    return possible ? double(total(std::visit([](const auto& r) { return r.block_steps(); }, reaction_))) / double(possible) : 1.0;
   }
   const Settings& settings() const { return settings_; }
   const sph::ParticleSet<Dim>& particles() const { return particles_; }

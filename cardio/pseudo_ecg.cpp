@@ -7,6 +7,7 @@
 
 #include "libsph/core/correction_matrix.hpp"
 #include "libsph/core/numerical_failure.hpp"
+#include "libsph/core/distribution.hpp"
 #include "libsph/core/parallel.hpp"
 
 namespace cardio {
@@ -63,9 +64,10 @@ std::vector<Electrode> twelve_lead_electrodes(const Vec3& centre, const Vec3& ba
 
 PseudoEcg::PseudoEcg(std::vector<Electrode> electrodes, const sph::NeighbourList<3>& relation,
                      std::span<const Vec3> reference_positions, std::span<const Real> volumes, double source_to_bath,
-                     double min_distance)
+                     double min_distance, const sph::ParticleSet<3>* particles)
     : electrodes_(std::move(electrodes)),
       relation_(relation),
+      particles_(particles && particles->partition() ? particles : nullptr),
       reference_(reference_positions),
       volume_(volumes),
       scale_(source_to_bath / (4 * std::numbers::pi)),
@@ -79,7 +81,8 @@ PseudoEcg::PseudoEcg(std::vector<Electrode> electrodes, const sph::NeighbourList
       if ((reference_positions[i] - e.position).norm() < min_distance)
         throw std::invalid_argument("pseudo-ECG: electrode '" + e.name + "' at " +
                                     sph::NumericalFailure::format_position(e.position) + " lies within " +
-                                    std::to_string(min_distance) + " mm of the tissue (particle " + std::to_string(i) +
+                                    std::to_string(min_distance) + " mm of the tissue (particle " +
+                                    std::to_string(particles ? sph::global_index(*particles, i) : i) +
                                     "); electrodes must lie outside it");
   }
   sph::compute_correction_matrix<3>(relation, volumes, correction_);
@@ -87,7 +90,7 @@ PseudoEcg::PseudoEcg(std::vector<Electrode> electrodes, const sph::NeighbourList
 
 std::vector<double> PseudoEcg::potentials(std::span<const Real> V, std::span<const Mat3> D0, std::span<const Vec3> x,
                                           std::span<const Mat3> F) const {
-  const std::size_t n = reference_.size();
+  const std::size_t n = relation_.n_targets();  // (a distributed tissue: this rank's owned particles)
   const bool deformed = !F.empty();
   // flux_j = J_j F_j D0_j G_j V0_j, the volume-weighted current-configuration flux of particle j.
   sph::parallel_for(n, [&](std::size_t i) {
@@ -98,13 +101,20 @@ std::vector<double> PseudoEcg::potentials(std::span<const Real> V, std::span<con
     const Vec3 q = D0[D0.size() == 1 ? 0 : i] * (correction_[i] * sum);
     flux_[i] = volume_[i] * (deformed ? Vec3(F[i].determinant() * (F[i] * q)) : q);
   });
+  // The sums over the whole tissue in particle order: on several ranks over its gathered fluxes
+  // and positions (the same terms, added as on one rank).
+  std::span<const Vec3> flux(flux_), at(x);
+  if (particles_) {
+    flux = sph::gather_all(*particles_, std::span<const Vec3>(flux_), whole_flux_);
+    at = sph::gather_all(*particles_, x, whole_x_);
+  }
   std::vector<double> phi(electrodes_.size());
   for (std::size_t e = 0; e < electrodes_.size(); ++e) {
     const Vec3 xe = electrodes_[e].position;
-    phi[e] = scale_ * sph::parallel_sum(n, 0.0, [&](std::size_t j) {
-               const Vec3 d = x[j] - xe;
+    phi[e] = scale_ * sph::parallel_sum(flux.size(), 0.0, [&](std::size_t j) {
+               const Vec3 d = at[j] - xe;
                const double r = d.norm();
-               return double(flux_[j].dot(d)) / (r * r * r);
+               return double(flux[j].dot(d)) / (r * r * r);
              });
   }
   return phi;

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "libsph/core/neighbour_relation.hpp"
+#include "libsph/core/particles.hpp"
 #include "libsph/core/types.hpp"
 
 namespace cardio {
@@ -64,9 +65,12 @@ class PseudoEcg {
   /// Electrodes around a tissue whose reference positions, volumes and inner relation are given (the
   /// relation and volumes must outlive this). `source_to_bath` = chi C_m / sigma_b [1/(mm^2/ms)].
   /// Throws std::invalid_argument naming an electrode closer than `min_distance` to a particle.
+  /// On a distributed tissue, `particles` is its particle set (the arrays are then this rank's
+  /// particles, the relation's rows its owned ones, and the potentials the whole tissue's, summed
+  /// in global-id order as on one rank).
   PseudoEcg(std::vector<Electrode> electrodes, const sph::NeighbourList<3>& relation,
             std::span<const sph::Vec<3>> reference_positions, std::span<const Real> volumes, double source_to_bath,
-            double min_distance);
+            double min_distance, const sph::ParticleSet<3>* particles = nullptr);
 
   /// Electrode potentials [mV] of the potential V with conduction tensors D0 (one, or one per
   /// particle), at current positions x with deformation gradients F (empty: the reference, F = I).
@@ -78,11 +82,12 @@ class PseudoEcg {
  private:
   std::vector<Electrode> electrodes_;
   const sph::NeighbourList<3>& relation_;
+  const sph::ParticleSet<3>* particles_;
   std::span<const sph::Vec<3>> reference_;
   std::span<const Real> volume_;
   double scale_;
   std::vector<sph::Mat<3>> correction_;
-  mutable std::vector<sph::Vec<3>> flux_;
+  mutable std::vector<sph::Vec<3>> flux_, whole_flux_, whole_x_;
 };
 
 /// Lead values from electrode potentials.

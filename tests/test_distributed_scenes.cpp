@@ -1,8 +1,10 @@
 // Distributed runs (libsph/core/distribution.hpp) write the bytes of a one-rank run: the diffusion
 // scenes on 2, 3 and 4 MPI ranks, the Niederer slab on 2, the Aliev-Panfilov depolarization on 3,
-// the myocardium cube (TLSPH) on 2 and 3 and the dam break (a fluid migrating between ranks) on 2 and 3, against the same scene without mpirun, every .vtu,
+// the myocardium cube (TLSPH) on 2 and 3, the dam break (a fluid migrating between ranks) on 2 and 3
+// and the coarse heart (electromechanics, cavities, circulation, ECG) on 2 and 3, against the same scene without mpirun, every .vtu,
 // .csv and .pvd file compared byte for byte and the report's results and errors compared as
-// numbers; a solid's numerical failure on 2 ranks names the particle of one rank. A scene that does
+// numbers; a heart interrupted on 2 ranks resumes from its ranks' checkpoints to the same bytes; a
+// solid's numerical failure on 2 ranks names the particle of one rank. A scene that does
 // not distribute, and ranks that disagree about their parameters, are refused under mpirun with
 // exit code 2 and nothing written.
 #include <gtest/gtest.h>
@@ -127,6 +129,38 @@ TEST(DistributedRuns, DamBreakIn3DOnTwoRanksWritesTheBytesOfOneRank) {
   expect_same_as_one_rank("dambreak-3d --set resolution=8 --set end_time=0.5 --set output_interval=0.25 --set sort_interval=0", {2});
 }
 
+TEST(DistributedRuns, CoarseHeartOnTwoAndThreeRanksWritesTheBytesOfOneRank) {
+  // Every heart feature: ten Tusscher-Panfilov cells (quiescent blocks kept whole on a rank), Land
+  // tension, TLSPH with pericardial and base springs, both cavities (their surfaces gathered by
+  // every rank) coupled to the closed-loop circulation, the 12-lead pseudo-ECG, observers, the
+  // activation map; 3,788 particles at dp 3 mm, geometry built by every rank (cache = none).
+  expect_same_as_one_rank("heart --preset coarse --set cache=none --set preload_time=5 --set pressure_ramp_time=5 "
+                          "--set output_interval=10 --set sample_interval=1 --end-time 30",
+                          {2, 3});
+}
+
+TEST(DistributedRuns, AHeartInterruptedOnTwoRanksResumesToTheBytesOfAnUninterruptedRun) {
+  // Each rank writes its part of the state (checkpoint.bin, checkpoint.rank1.bin) and resumes from
+  // it; another rank count is refused with the count that wrote the checkpoint.
+  const test::TemporaryFolder folder("distributed");
+  const fs::path whole = folder.path() / "whole", cut = folder.path() / "cut", err = folder.path() / "err.txt";
+  const std::string heart = "heart --preset coarse --set cache=none --set preload_time=5 --set pressure_ramp_time=5 "
+                            "--set output_interval=10 --set sample_interval=1 --end-time 30";
+  ASSERT_EQ(run(2, heart + " --output " + whole.string(), err), 0) << test::bytes_of(err);
+  ASSERT_EQ(run(2, heart + " --interrupt-at 15 --output " + cut.string(), err), 3) << test::bytes_of(err);
+  EXPECT_TRUE(fs::exists(cut / "checkpoint.bin"));
+  EXPECT_TRUE(fs::exists(cut / "checkpoint.rank1.bin"));
+  EXPECT_EQ(run(3, "heart --resume " + cut.string(), err), 2);
+  const std::string message = test::bytes_of(err);
+  EXPECT_NE(message.find("was written by 2 MPI ranks and this run has 3: resume it on as many (mpirun -np 2)"), std::string::npos)
+      << message;
+  ASSERT_EQ(run(2, "heart --resume " + cut.string(), err), 0) << test::bytes_of(err);
+  const std::size_t bytes = expect_same_files(whole, cut, 2);
+  EXPECT_FALSE(fs::exists(cut / "checkpoint.bin"));
+  EXPECT_FALSE(fs::exists(cut / "checkpoint.rank1.bin"));
+  std::printf("[ measured ] the heart on 2 ranks, interrupted at 15 ms and resumed: %zu bytes identical to the uninterrupted run\n", bytes);
+}
+
 TEST(DistributedRuns, ASolidFailureNamesTheParticleOfOneRankAndWritesItsLastGoodState) {
   // A time step far above the stable one inverts the cube: every rank stops at the same step, the
   // message names the particle (global id) and time of a one-rank run, and the last good state
@@ -202,6 +236,17 @@ TEST(DistributedRuns, RanksThatDisagreeAboutAParameterStopWithItsName) {
   EXPECT_EQ(mixed("diffusion --set resolution=40", "diffusion --set resolution=41"), 2);
   message = test::bytes_of(err);
   EXPECT_NE(message.find("(rank 1) cardiosph: parameter 'box_height' must be a whole number"), std::string::npos) << message;
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_FALSE(fs::exists(out.string() + ".partial"));
+}
+
+TEST(DistributedRuns, AFluidOnSeveralRanksRefusesCheckpoints) {
+  // Its particles migrate between the ranks, a layout that a resumed run could not restore.
+  const test::TemporaryFolder folder("distributed");
+  const fs::path out = folder.path() / "dambreak", err = folder.path() / "err.txt";
+  EXPECT_EQ(run(2, "dambreak --set resolution=20 --end-time 0.5 --checkpoint-interval 0.1 --output " + out.string(), err), 2);
+  const std::string message = test::bytes_of(err);
+  EXPECT_NE(message.find("particles migrate between the ranks (fluids); run on one rank to checkpoint"), std::string::npos) << message;
   EXPECT_FALSE(fs::exists(out));
   EXPECT_FALSE(fs::exists(out.string() + ".partial"));
 }

@@ -51,6 +51,14 @@ unsigned long long Communicator::min(unsigned long long value) const {
   return out;
 }
 
+unsigned long long Communicator::sum(unsigned long long value) const {
+  if (size_ == 1) return value;
+  ++traffic_.collectives;
+  unsigned long long out;
+  MPI_Allreduce(&value, &out, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm_of(*this));
+  return out;
+}
+
 bool Communicator::any(bool flag) const {
   if (size_ == 1) return flag;
   ++traffic_.collectives;
@@ -162,6 +170,7 @@ const void* Communicator::native_handle() const { throw std::logic_error("commun
 double Communicator::min(double value) const { return value; }
 double Communicator::max(double value) const { return value; }
 unsigned long long Communicator::min(unsigned long long value) const { return value; }
+unsigned long long Communicator::sum(unsigned long long value) const { return value; }
 bool Communicator::any(bool flag) const { return flag; }
 void Communicator::exchange(const std::vector<std::vector<std::byte>>& send,
                             std::vector<std::vector<std::byte>>& receive) const {

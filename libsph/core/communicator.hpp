@@ -29,6 +29,8 @@ class Communicator {
   double max(double value) const;
   /// The smallest value over the ranks (e.g. the first global id with a problem).
   unsigned long long min(unsigned long long value) const;
+  /// The sum over the ranks of a count (exact: integers).
+  unsigned long long sum(unsigned long long value) const;
   /// True on every rank if `flag` is true on any rank.
   bool any(bool flag) const;
 

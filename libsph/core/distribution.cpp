@@ -146,7 +146,7 @@ std::vector<int> owners_by_rcb(const std::vector<Vec<Dim>>& position, const Comm
 }  // namespace
 
 template <int Dim>
-void distribute(ParticleSet<Dim>& particles, Real ghost_radius, const Communicator& comm) {
+void distribute(ParticleSet<Dim>& particles, Real ghost_radius, const Communicator& comm, std::span<const Index> keep_together) {
   if (comm.size() == 1) return;
   if (particles.partition()) throw std::logic_error("particle set '" + particles.name() + "' is already distributed");
   const std::size_t n = particles.n_particles(), ranks = static_cast<std::size_t>(comm.size());
@@ -158,7 +158,14 @@ void distribute(ParticleSet<Dim>& particles, Real ghost_radius, const Communicat
                                 std::to_string(ranks) + " ranks; run on fewer ranks");
   if (!(ghost_radius > 0)) throw std::invalid_argument("distribution: the ghost radius must be positive");
 
-  const std::vector<int> owner = owners_by_rcb<Dim>(particles.position, comm);
+  if (!keep_together.empty() && keep_together.size() != n)
+    throw std::invalid_argument("particle set '" + particles.name() + "': " + std::to_string(keep_together.size()) +
+                                " particles to keep together for " + std::to_string(n));
+  std::vector<int> owner = owners_by_rcb<Dim>(particles.position, comm);
+  if (!keep_together.empty()) {
+    const std::vector<int> by_position = owner;
+    for (std::size_t g = 0; g < n; ++g) owner[g] = by_position.at(keep_together[g]);
+  }
   const int me = comm.rank();
   std::vector<Index> owned;
   for (std::size_t g = 0; g < n; ++g)
@@ -486,6 +493,7 @@ void MovingPartition<Dim>::update(ParticleSet<Dim>& particles) {
   partition->grid_origin = lower;
   partition->send = std::move(ghost_to);
   partition->receive = std::move(ghost_places);
+  partition->moves = true;
   particles.set_partition(std::move(partition));
 #else
   (void)particles;
@@ -494,8 +502,8 @@ void MovingPartition<Dim>::update(ParticleSet<Dim>& particles) {
 
 template class MovingPartition<2>;
 template class MovingPartition<3>;
-template void distribute<2>(ParticleSet<2>&, Real, const Communicator&);
-template void distribute<3>(ParticleSet<3>&, Real, const Communicator&);
+template void distribute<2>(ParticleSet<2>&, Real, const Communicator&, std::span<const Index>);
+template void distribute<3>(ParticleSet<3>&, Real, const Communicator&, std::span<const Index>);
 template GlobalParticle<2> first_over_ranks<2>(const ParticleSet<2>&, std::size_t);
 template GlobalParticle<3> first_over_ranks<3>(const ParticleSet<3>&, std::size_t);
 template void gather_particles<2>(const ParticleSet<2>&, ParticleSet<2>&);

@@ -30,10 +30,14 @@
 namespace sph {
 
 /// Makes `particles` (the whole set, the same on every rank) this rank's part with its ghosts.
-/// Throws std::invalid_argument if there are fewer particles than ranks or the ranks disagree on
-/// the set. Fields registered before are distributed with the particles.
+/// `keep_together` (empty, or one global id per particle): particle i goes to the rank of particle
+/// keep_together[i], so that units of particles that a system treats together (the lane blocks of
+/// the cell models, sph::reaction_blocks) stay whole. Throws std::invalid_argument if there are
+/// fewer particles than ranks or the ranks disagree on the set. Fields registered before are
+/// distributed with the particles.
 template <int Dim>
-void distribute(ParticleSet<Dim>& particles, Real ghost_radius, const Communicator& comm = Communicator::world());
+void distribute(ParticleSet<Dim>& particles, Real ghost_radius, const Communicator& comm = Communicator::world(),
+                std::span<const Index> keep_together = {});
 
 /// The partition of a particle set that moves (a fluid): each rank owns the particles inside its
 /// region of Zoltan's recursive coordinate bisection of space (the cuts kept, KEEP_CUTS) and holds as
@@ -140,9 +144,10 @@ std::span<const T> gather_all(const ParticleSet<Dim>& particles, std::span<const
 /// parallel_sum adds it over the whole set in a serial run (bitwise the same for any rank count).
 template <int Dim, class Term>
 double global_sum(const ParticleSet<Dim>& particles, Term&& term) {
-  if (!particles.partition()) return parallel_sum(particles.n_particles(), 0.0, [&](std::size_t i) { return double(term(i)); });
+  // The terms are stored before they are added, on one rank as on several: a term computed inside
+  // the adding loop could be fused with the addition (a multiply-add) and differ in the last bit.
   std::vector<double> local(particles.n_owned()), whole;
-  for (std::size_t i = 0; i < local.size(); ++i) local[i] = double(term(i));
+  parallel_for(local.size(), [&](std::size_t i) { local[i] = double(term(i)); });
   const auto all = gather_all<Dim, double>(particles, local, whole);
   return parallel_sum(all.size(), 0.0, [&](std::size_t i) { return all[i]; });
 }
@@ -159,6 +164,90 @@ double global_exact_sum(const ParticleSet<Dim>& particles, Term&& term) {
   for (const auto& part : Communicator::world().all_gather(local.bytes())) total.add(ExactSum::from_bytes(part));
   return total.value();
 }
+
+/// The global id of local particle i (its index in a serial run).
+template <int Dim>
+Index global_index(const ParticleSet<Dim>& particles, std::size_t i) {
+  const Partition<Dim>* p = particles.partition();
+  return p ? p->global_id[i] : static_cast<Index>(i);
+}
+
+/// The local indices of the particles with the given global ids that this rank holds (all local
+/// particles, or only its owned ones), in the order of `ids`; the others are left out. Serial:
+/// `ids` itself.
+template <int Dim>
+std::vector<Index> local_indices(const ParticleSet<Dim>& particles, std::span<const Index> ids, bool owned_only) {
+  const Partition<Dim>* p = particles.partition();
+  if (!p) return {ids.begin(), ids.end()};
+  constexpr Index absent = std::numeric_limits<Index>::max();
+  std::vector<Index> local_of(p->n_global, absent);
+  const std::size_t held = owned_only ? p->n_owned : p->global_id.size();
+  for (std::size_t i = 0; i < held; ++i) local_of[p->global_id[i]] = static_cast<Index>(i);
+  std::vector<Index> local;
+  for (const Index id : ids)
+    if (local_of[id] != absent) local.push_back(local_of[id]);
+  return local;
+}
+
+/// A fixed selection of particles (by global id) whose values every rank needs whole: the
+/// particles that carry a surface spread over the ranks (a cavity's endocardium), read at every
+/// step by all ranks. gather() gives the values of the selected particles in selection order on
+/// every rank, each from its owner; owned(k) names the local index of the k-th selected particle
+/// where this rank owns it, so that what is computed from the gathered values is written back by
+/// one rank. Serial: a copy by index, every particle owned.
+template <int Dim>
+class SharedSelection {
+ public:
+  static constexpr Index not_owned = std::numeric_limits<Index>::max();
+
+  SharedSelection(const ParticleSet<Dim>& particles, std::vector<Index> ids) : particles_(particles), ids_(std::move(ids)) {
+    const Partition<Dim>* p = particles.partition();
+    if (!p) {
+      owned_ = ids_;
+      return;
+    }
+    std::vector<Index> local_of(p->n_global, not_owned);
+    for (std::size_t i = 0; i < p->n_owned; ++i) local_of[p->global_id[i]] = static_cast<Index>(i);
+    owned_.resize(ids_.size());
+    for (std::size_t k = 0; k < ids_.size(); ++k) {
+      owned_[k] = local_of[ids_[k]];
+      if (owned_[k] != not_owned) mine_.push_back(static_cast<Index>(k));
+    }
+  }
+
+  std::size_t size() const { return ids_.size(); }
+  /// The global ids of the selected particles.
+  const std::vector<Index>& ids() const { return ids_; }
+  /// The local index of the k-th selected particle if this rank owns it, else not_owned.
+  Index owned(std::size_t k) const { return owned_[k]; }
+
+  /// The values of the selected particles, in selection order, on every rank (one all-gather).
+  template <class T>
+  void gather(std::span<const T> local, std::vector<T>& selected) const {
+    selected.resize(ids_.size());
+    if (!particles_.partition()) {
+      for (std::size_t k = 0; k < ids_.size(); ++k) selected[k] = local[ids_[k]];
+      return;
+    }
+    std::vector<std::byte> part(mine_.size() * (sizeof(Index) + sizeof(T)));
+    std::byte* at = part.data();
+    for (const Index k : mine_) {
+      std::memcpy(at, &k, sizeof(Index));
+      std::memcpy(at + sizeof(Index), &local[owned_[k]], sizeof(T));
+      at += sizeof(Index) + sizeof(T);
+    }
+    for (const auto& from : Communicator::world().all_gather(part))
+      for (std::size_t b = 0; b < from.size(); b += sizeof(Index) + sizeof(T)) {
+        Index k;
+        std::memcpy(&k, from.data() + b, sizeof(Index));
+        std::memcpy(static_cast<void*>(&selected[k]), from.data() + b + sizeof(Index), sizeof(T));
+      }
+  }
+
+ private:
+  const ParticleSet<Dim>& particles_;
+  std::vector<Index> ids_, owned_, mine_;
+};
 
 /// The particle named in a failure found on some rank: the lowest global id over the ranks of
 /// the owned particles for which a rank reports a problem (`local` = its first such owned index,

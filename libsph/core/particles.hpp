@@ -231,6 +231,14 @@ class ParticleSet {
     archive.io("position", position);
     archive.io("volume", volume);
     for (auto& f : fields_) f->checkpoint(archive);
+    if (partition_) {  // this rank's part: the state must be of the same particles, in the same places
+      std::vector<Index> ids = partition_->global_id;
+      std::size_t owned = partition_->n_owned;
+      archive.io("partition_global_id", ids);
+      archive.io("partition_owned", owned);
+      if (archive.loading() && (ids != partition_->global_id || owned != partition_->n_owned))
+        throw StateError("particle set '" + name_ + "': the state holds other particles on this rank (another partition)");
+    }
     if (archive.loading()) {
       if (volume.size() != position.size())
         throw StateError("particle set '" + name_ + "': the state has " + std::to_string(position.size()) + " positions and " +

@@ -25,6 +25,9 @@ struct Partition {
   Vec<Dim> grid_origin = Vec<Dim>::Zero();  ///< lower corner of the whole set: the origin of every cell grid
   std::vector<std::vector<Index>> send;     ///< per rank q: owned local indices that q holds as ghosts, by global id
   std::vector<std::vector<Index>> receive;  ///< per rank q: ghost local indices owned by q, by global id
+  /// The particles migrate between ranks (MovingPartition): the layout is not that of a fresh
+  /// distribution, so a checkpoint cannot restore it.
+  bool moves = false;
   /// Ghost values this rank receives in one halo update of one scalar (for the scaling report).
   std::size_t n_ghosts() const { return global_id.size() - n_owned; }
 };

@@ -145,4 +145,18 @@ void request_interrupt() noexcept { interrupt_flag = 1; }
 bool interrupt_requested() noexcept { return interrupt_flag != 0; }
 void clear_interrupt() noexcept { interrupt_flag = 0; }
 
+std::string checkpoint_file_of_rank(int rank) {
+  return rank == 0 ? std::string(checkpoint_file_name) : "checkpoint.rank" + std::to_string(rank) + ".bin";
+}
+
+int checkpoint_ranks(const std::filesystem::path& folder) {
+  int ranks = 1;
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(folder, error)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("checkpoint.rank", 0) == 0 && entry.path().extension() == ".bin") ++ranks;
+  }
+  return ranks;
+}
+
 }  // namespace sph

@@ -28,6 +28,12 @@ namespace sph {
 inline constexpr std::uint32_t checkpoint_format_version = 1;
 /// The file name of a run's checkpoint in its output folder.
 inline constexpr const char* checkpoint_file_name = "checkpoint.bin";
+/// The checkpoint of rank `rank` of a distributed run: rank 0's is checkpoint_file_name (with the
+/// scene and parameters, like a one-rank run's), rank r's checkpoint.rank<r>.bin. Each holds that
+/// rank's part of the state; a run resumes on the rank count that wrote them.
+std::string checkpoint_file_of_rank(int rank);
+/// How many ranks wrote the checkpoint in `folder` (1 + its checkpoint.rank<r>.bin files).
+int checkpoint_ranks(const std::filesystem::path& folder);
 
 struct Checkpoint {
   std::string scene;

@@ -65,6 +65,11 @@ void RunHarness::save_or_load(StateArchive& archive) {
   stepper_.checkpoint(stepper);
   auto harness = archive.part("harness");
   harness.io("next_checkpoint", next_checkpoint_);
+  int ranks = Communicator::world().size();
+  harness.io("ranks", ranks);
+  if (archive.loading() && ranks != Communicator::world().size())
+    throw StateError("it was written by " + std::to_string(ranks) + " MPI ranks, this run has " +
+                     std::to_string(Communicator::world().size()));
   double loop_seconds = time_loop_before_ + std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start_).count();
   harness.io("time_loop_seconds", loop_seconds);
   if (archive.loading()) time_loop_before_ = loop_seconds;
@@ -84,14 +89,18 @@ bool RunHarness::checkpoint_after_step(const StepInfo& s) {
   const double t = double(s.time), start = double(stepper_.start_time());
   const double tolerance = plan.interval > 0 ? 1e-9 * plan.interval : 0.0;
   const bool periodic = plan.interval > 0 && start + double(next_checkpoint_) * plan.interval <= t + tolerance;
-  const bool stop = interrupt_requested() || t >= plan.interrupt_at;
+  const Communicator& comm = Communicator::world();
+  bool stop = interrupt_requested() || t >= plan.interrupt_at;
+  if (comm.size() > 1) stop = comm.any(stop);  // a signal may reach the ranks at different steps
   if (!periodic && !stop) return false;
   while (plan.interval > 0 && start + double(next_checkpoint_) * plan.interval <= t + tolerance) ++next_checkpoint_;
   timers_.measure("checkpoint", [&] {
     Checkpoint checkpoint{plan.scene, plan.parameters, t, {}};
     StateArchive archive(checkpoint.records, StateArchive::Mode::save);
     save_or_load(archive);
-    write_checkpoint(options_.output_dir / checkpoint_file_name, checkpoint);
+    // Every rank its own part; the barrier holds the ranks until all parts are written.
+    write_checkpoint(options_.output_dir / checkpoint_file_of_rank(comm.rank()), checkpoint);
+    comm.barrier();
   });
   return stop;
 }
@@ -160,6 +169,12 @@ void RunHarness::write_bodies(double time) {
 
 std::size_t RunHarness::run() {
   const CheckpointPlan& plan = options_.checkpoint;
+  // Particles that migrate between ranks (fluids) are laid out by their history, which a resumed
+  // run could not restore: no checkpoints for them on several ranks.
+  const bool can_checkpoint = plan.enabled && (fixed_layout_ || Communicator::world().size() == 1);
+  if (plan.enabled && !can_checkpoint && (plan.resume || plan.interval > 0 || std::isfinite(plan.interrupt_at)))
+    throw ParameterError("checkpoints (--checkpoint-interval, --interrupt-at, --resume) are not available on several ranks for "
+                         "bodies whose particles migrate between the ranks (fluids); run on one rank to checkpoint");
   if (plan.resume) {
     if (!plan.enabled) throw std::logic_error("run harness: a checkpoint to resume from, but checkpoints are not enabled");
     StateArchive archive(plan.resume->records, StateArchive::Mode::load);
@@ -170,7 +185,7 @@ std::size_t RunHarness::run() {
     }
     last_completed_ = plan.resume->time;
   }
-  if (plan.enabled) stepper_.set_interruption_check([this](const StepInfo& s) { return checkpoint_after_step(s); });
+  if (can_checkpoint) stepper_.set_interruption_check([this](const StepInfo& s) { return checkpoint_after_step(s); });
   progress_ = std::make_unique<Progress>(options_.label, options_.quiet || !writes_files_);
   report_.simulated_time = double(stepper_.end_time());
   const Communicator::Traffic traffic_before = Communicator::world().traffic();

@@ -148,6 +148,7 @@ class RunHarness {
   bool writes_files_ = Communicator::world().is_root();
   std::vector<std::pair<std::string, std::function<void(StateArchive&)>>> states_;
   std::size_t next_checkpoint_ = 1;
+  bool fixed_layout_ = true;  ///< no body's particles migrate between ranks (a checkpoint can restore them)
   double time_loop_before_ = 0;
   std::chrono::steady_clock::time_point loop_start_;  ///< wall time of the time loop before the checkpoint resumed from  ///< the next periodic checkpoint is at start + next_checkpoint_ * interval
   double time_loop_seconds_ = 0;
@@ -184,6 +185,7 @@ void RunHarness::add_body(ParticleSet<Dim>& body, Real output_interval, std::fun
   else write(double(stepper_.start_time()));
   report_.particles.set(body.name(), body.partition() ? body.partition()->n_global : body.n_particles());
   if (const auto* p = body.partition()) {
+    fixed_layout_ = fixed_layout_ && !p->moves;
     std::size_t neighbours = 0, halo = 0;
     for (const auto& list : p->receive) {
       neighbours += !list.empty();

@@ -41,6 +41,25 @@
 
 namespace sph {
 
+/// The lane blocks in which a reaction system steps the cells of a whole set on one rank: lane_count
+/// consecutive particles of each cell group (group[i]; empty: one group), in index order. Returns
+/// per particle the index of the first particle of its block: the units to keep together when the
+/// set is distributed (sph::distribute) with quiescent cells.
+inline std::vector<Index> reaction_blocks(std::span<const std::uint16_t> group, std::size_t n = 0) {
+  const std::size_t size = group.empty() ? n : group.size();
+  std::vector<Index> first(size);
+  std::vector<std::pair<std::size_t, Index>> open;  // per group: members so far, first of the open block
+  for (std::size_t i = 0; i < size; ++i) {
+    const std::size_t g = group.empty() ? 0 : group[i];
+    if (open.size() <= g) open.resize(g + 1, {0, 0});
+    auto& [count, start] = open[g];
+    if (count % static_cast<std::size_t>(lane_count) == 0) start = static_cast<Index>(i);
+    first[i] = start;
+    ++count;
+  }
+  return first;
+}
+
 template <int Dim, ReactionModel M>
 class ReactionSystem {
  public:
@@ -78,9 +97,6 @@ class ReactionSystem {
     if (!(settings_.quiescent_step >= 0 && std::isfinite(settings_.quiescent_step)) ||
         !(settings_.quiescent_rate > 0 && std::isfinite(settings_.quiescent_rate)))
       throw std::invalid_argument("reaction on '" + particles_.name() + "': the quiescent step must be >= 0 and the quiescent rate > 0");
-    if (settings_.quiescent_step > 0 && particles_.partition())
-      throw std::invalid_argument("reaction on '" + particles_.name() +
-                                  "': quiescent cells (reaction_quiescent_step > 0) are not available in distributed runs yet");
     if (models_.size() == 1) group_.clear();
     if (!group_.empty()) {
       // Every particle at its own model's resting state.
@@ -100,6 +116,7 @@ class ReactionSystem {
         blocks_.push_back({g, first, std::min<std::size_t>(lane_count, members_[g].size() - first)});
     block_steps_.assign(blocks_.size(), 0);
     if (settings_.quiescent_step > 0) {
+      if (particles_.partition()) require_whole_blocks();
       skipped_.assign(blocks_.size(), 0);
       quiescent_.assign(blocks_.size(), 0);
       last_potential_.assign(n, static_cast<Real>(rest[0]));
@@ -141,6 +158,26 @@ class ReactionSystem {
   }
 
  private:
+  /// A block skips or steps as a whole, so on several ranks each rank must hold whole blocks of a
+  /// one-rank run (sph::reaction_blocks kept together by sph::distribute) for the same results.
+  void require_whole_blocks() const {
+    const Partition<Dim>& p = *particles_.partition();
+    std::vector<std::uint16_t> local(p.n_owned, 0), whole;
+    if (!group_.empty()) std::copy(group_.begin(), group_.end(), local.begin());
+    const auto all = gather_all(particles_, std::span<const std::uint16_t>(local), whole);
+    const auto first = reaction_blocks(all);
+    std::vector<std::size_t> size(first.size(), 0);
+    for (const Index f : first) ++size[f];
+    for (const Block& block : blocks_) {
+      const Index f = first[p.global_id[members_[block.group][block.first]]];
+      bool whole_block = block.count == size[f];
+      for (std::size_t l = 0; l < block.count; ++l) whole_block = whole_block && first[p.global_id[members_[block.group][block.first + l]]] == f;
+      if (!whole_block)
+        throw std::invalid_argument("reaction on '" + particles_.name() + "': quiescent cells (reaction_quiescent_step > 0) on "
+                                    "several ranks need the cells' lane blocks whole on each rank (distribute the particles "
+                                    "keeping sph::reaction_blocks together)");
+    }
+  }
   std::size_t particle(const std::size_t b, std::size_t l) const {
     return members_[blocks_[b].group][blocks_[b].first + std::min(l, blocks_[b].count - 1)];
   }

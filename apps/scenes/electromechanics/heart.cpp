@@ -34,6 +34,7 @@
 #include "apps/scenes/electromechanics/heart_output.hpp"
 #include "apps/scenes/electrophysiology/ep_run.hpp"
 #include "cardio/electromechanics.hpp"
+#include "libsph/core/distribution.hpp"
 #include "libsph/io/parameters.hpp"
 
 namespace cardiosph {
@@ -46,6 +47,7 @@ class HeartScene final : public Scene {
   void check() const override { check_heart_parameters(p_); }
   void run(RunContext& ctx) override;
   bool checkpoints() const override { return true; }
+  bool distributes() const override { return true; }
 
  private:
   HeartParameters p_;
@@ -62,6 +64,7 @@ void HeartScene::run(RunContext& ctx) {
   const auto gs = p_.geometry.resolved(preset_spacing(p_.preset));
   if (gs.fibres == "none") throw sph::ParameterError("parameter 'fibres' = none: the heart needs fibre directions");
   const auto g = cardio::prepare_heart_geometry(gs, p_.geometry.cache_folder(), log);
+  const auto& comm = sph::Communicator::world();
 
   // 2. Systems: solid, monodomain, active tension, cavities and springs on one particle set.
   HeartModel heart(p_, g, gs);
@@ -106,7 +109,7 @@ void HeartScene::run(RunContext& ctx) {
                                [&] { return std::span<const Vec3>(body.position); },
                                [&] { return std::span<const sph::Mat<3>>(body.field(solid.deformation_gradient_field())); }};
     ecg.emplace(p_.ecg, heart_electrodes(heart, g, p_.ecg), p_.ecg.mode == "twelve_lead", *heart.relation, heart.X,
-                body.volume, heart.dp, source, run);
+                body.volume, heart.dp, source, run, &body);
   }
   // The circulation (cardio/circulation_coupling.hpp): a stage after the electromechanical one,
   // and the beats it measures.
@@ -128,7 +131,12 @@ void HeartScene::run(RunContext& ctx) {
   // wave and QT interval.
   if (ecg) ecg->finish(ctx.output_dir, r, EcgRecorder::Beat{beat_origin(p_), p_.cycle_length, 150});
   if (monodomain.maps()) r.results["maps"] = ep_map_summary(monodomain);
-  write_activation_map(ctx.output_dir, heart, beat_origin(p_));
+  // The whole heart's activation (and APD) by global id, on every rank; files from rank 0.
+  std::vector<Real> whole_activation, whole_apd;
+  const auto activation = sph::gather_all(body, std::span<const Real>(body.field(monodomain.activation_field())), whole_activation);
+  const auto* maps = monodomain.maps();
+  const auto apd = maps ? sph::gather_all(body, std::span<const Real>(body.field(maps->apd_field())), whole_apd) : std::span<const Real>();
+  if (comm.is_root()) write_activation_map(ctx.output_dir, heart, activation, apd, beat_origin(p_));
   if (beats) {
     beats->report(r);
     beats->plot(ctx.output_dir);
@@ -151,23 +159,20 @@ void HeartScene::run(RunContext& ctx) {
     r.results["early_activation_sites"].push_back(
         {{"position_mm", {site.position[0], site.position[1], site.position[2]}}, {"time_ms", site.time}});
   // The cell groups, with the median APD of each (the gradient across the wall with layers).
-  const auto* maps = monodomain.maps();
   for (std::size_t k = 0; k < heart.cell_groups.names.size(); ++k) {
     auto& group = r.results["cell_groups"][heart.cell_groups.names[k]];
     group["particles"] = heart.cell_groups.counts[k];
     if (!maps) continue;
-    std::vector<double> apd;
-    const auto values = body.field(maps->apd_field());
+    std::vector<double> values;
     for (std::size_t i = 0; i < heart.n(); ++i)
-      if ((heart.cell_groups.group.empty() || heart.cell_groups.group[i] == k) && values[i] > 0) apd.push_back(values[i]);
-    if (apd.empty()) continue;
-    std::nth_element(apd.begin(), apd.begin() + std::ptrdiff_t(apd.size() / 2), apd.end());
-    group[maps->apd_name() + "_median_ms"] = apd[apd.size() / 2];
+      if ((heart.cell_groups.group.empty() || heart.cell_groups.group[i] == k) && apd[i] > 0) values.push_back(apd[i]);
+    if (values.empty()) continue;
+    std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(values.size() / 2), values.end());
+    group[maps->apd_name() + "_median_ms"] = values[values.size() / 2];
   }
   r.results["stimulus_centre_mm"] = {heart.stimulus_centre[0], heart.stimulus_centre[1], heart.stimulus_centre[2]};
   r.results["diffusivity_mm2_per_ms"] = {heart.D_fibre, heart.D_cross};
   r.results["max_activation_ms"] = monodomain.latest_activation();
-  const auto activation = body.field(monodomain.activation_field());
   if (monodomain.all_activated()) {
     // The first beat's activation spread: latest minus earliest activation time (healthy human
     // ventricles: 60-80 ms, Durrer et al. 1970).

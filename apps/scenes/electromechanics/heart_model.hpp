@@ -26,24 +26,32 @@ using Vec3 = sph::Vec<3>;
 ///   4. the active tension on the monodomain's calcium (Land) or potential (Nash-Panfilov), at its rest;
 ///   5. the cavities (the labelled endocardia) with their pressure, and the pericardial and base
 ///      springs (base_condition = springs).
+//
+/// On several MPI ranks (mpirun) the body is distributed right after it is built
+/// (libsph/core/distribution.hpp): the systems hold this rank's particles, while what is found on
+/// the whole heart (the stimuli, the base, the cavity surfaces, the observers) is found on whole_X
+/// by every rank alike.
 class HeartModel {
  public:
   HeartModel(const HeartParameters& p, const cardio::HeartGeometry& g, const cardio::HeartGeometrySettings& gs);
   HeartModel(const HeartModel&) = delete;
 
-  std::size_t n() const { return body->n_particles(); }
+  /// Particles of the whole heart (on several ranks, every rank's owned ones together).
+  std::size_t n() const { return whole_X.size(); }
   double max_displacement() const;
   double mean_potential() const;
   double max_tension() const;
 
   Real dp = 0, h = 0;
   sph::AnyKernel<3> kernel;
-  std::span<const std::int8_t> labels;  ///< cardio::SurfaceLabel per particle
+  std::span<const std::int8_t> labels;  ///< cardio::SurfaceLabel per particle of the whole heart, by global id
   std::unique_ptr<sph::ParticleSet<3>> body;
   std::unique_ptr<const sph::InnerRelation<3>> relation;
   std::unique_ptr<sph::ElasticSolid<3>> solid;
-  std::vector<sph::Index> base;
-  std::span<const Vec3> X;  ///< reference positions
+  std::vector<sph::Index> base;  ///< the base particles (global ids)
+  std::span<const Vec3> X;  ///< reference positions (this rank's particles)
+  std::vector<Vec3> whole_X;         ///< reference positions of the whole heart, by global id
+  std::vector<Real> whole_volume;    ///< volumes of the whole heart, by global id
   bool ttp = false, dimensionless = false;
   double D_fibre = 0, D_cross = 0;
   Vec3 stimulus_centre = Vec3::Zero();

@@ -163,15 +163,15 @@ void HeartBeats::plot(const std::filesystem::path& folder) const {
   plot_csv(folder, pv);
 }
 
-void write_activation_map(const std::filesystem::path& folder, const HeartModel& heart, double origin) {
-  const auto activation = heart.body->field(heart.monodomain->activation_field());
+void write_activation_map(const std::filesystem::path& folder, const HeartModel& heart, std::span<const Real> activation,
+                          std::span<const Real> apd, double origin) {
   const auto* maps = heart.monodomain->maps();
+  const auto& X = heart.whole_X;
   std::ostringstream csv;
   csv << "x,y,z,activation_time" << (maps ? "," + maps->apd_name() : "") << '\n';
   for (std::size_t i = 0; i < heart.n(); ++i) {
-    csv << heart.X[i][0] << ',' << heart.X[i][1] << ',' << heart.X[i][2] << ','
-        << (activation[i] >= 0 ? double(activation[i]) - origin : -1.0);
-    if (maps) csv << ',' << heart.body->field(maps->apd_field())[i];
+    csv << X[i][0] << ',' << X[i][1] << ',' << X[i][2] << ',' << (activation[i] >= 0 ? double(activation[i]) - origin : -1.0);
+    if (maps) csv << ',' << apd[i];
     csv << '\n';
   }
   sph::write_file_atomically(folder / "activation_map.csv", csv.str());
@@ -184,10 +184,11 @@ std::vector<cardio::Electrode> heart_electrodes(const HeartModel& heart, const c
   if (p.mode != "twelve_lead") return parse_electrodes(p.electrodes);
   Vec3 centre = Vec3::Zero(), lv = Vec3::Zero(), rv = Vec3::Zero();
   std::size_t n_lv = 0, n_rv = 0;
+  const auto& X = heart.whole_X;
   for (std::size_t i = 0; i < heart.n(); ++i) {
-    centre += heart.X[i];
-    if (heart.labels[i] == cardio::label_lv_endo) lv += heart.X[i], ++n_lv;
-    if (heart.labels[i] == cardio::label_rv_endo) rv += heart.X[i], ++n_rv;
+    centre += X[i];
+    if (heart.labels[i] == cardio::label_lv_endo) lv += X[i], ++n_lv;
+    if (heart.labels[i] == cardio::label_rv_endo) rv += X[i], ++n_rv;
   }
   if (n_lv == 0 || n_rv == 0)
     throw sph::ParameterError("parameter 'ecg' = twelve_lead places the electrodes by the LV and RV endocardia, and this "

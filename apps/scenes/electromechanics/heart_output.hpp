@@ -11,6 +11,7 @@
 #include "cardio/beat_metrics.hpp"
 #include "cardio/circulation_coupling.hpp"
 #include "cardio/pseudo_ecg.hpp"
+#include "libsph/core/distribution.hpp"
 #include "libsph/core/point_probes.hpp"
 #include "libsph/io/run_harness.hpp"
 
@@ -26,7 +27,7 @@ class HeartRecorder {
         volume_min_(heart.cavities->size(), std::numeric_limits<double>::infinity()),
         volume_max_(heart.cavities->size(), 0),
         peak_pressure_(heart.cavities->size(), 0),
-        probes_(observer_points(), heart.body->position, heart.body->volume, heart.kernel, heart.h) {
+        probes_(observer_points(), heart.whole_X, heart.whole_volume, heart.kernel, heart.h) {
     std::vector<std::string> cavity_columns;
     for (std::size_t c = 0; c < heart.cavities->size(); ++c)
       for (const char* q : {"_volume", "_pressure"}) cavity_columns.push_back(heart.cavities->name(c) + q);
@@ -79,9 +80,10 @@ class HeartRecorder {
   }
 
  private:
-  /// The particle nearest to the stimulus centre, and the LV and RV endocardial particles farthest from it.
+  /// The particle nearest to the stimulus centre, and the LV and RV endocardial particles farthest
+  /// from it (found on the whole heart; the probes sample the gathered fields).
   std::vector<Vec3> observer_points() {
-    const auto& x = heart_.body->position;
+    const auto& x = heart_.whole_X;
     const auto labels = heart_.labels;
     std::size_t nearest = 0;
     for (std::size_t i = 1; i < x.size(); ++i)
@@ -111,7 +113,9 @@ class HeartRecorder {
     const double max_T = heart_.max_tension();
     const double dt = heart_.solid->stable_time_step();
     const auto& k_a = heart_.tension->stiffness();
-    const double max_k_a = k_a.empty() ? 0.0 : double(*std::max_element(k_a.begin(), k_a.end()));
+    const auto owned_k_a = std::span<const Real>(k_a).first(k_a.empty() ? 0 : heart_.body->n_owned());
+    const double max_k_a =
+        k_a.empty() ? 0.0 : double(sph::global_max(*heart_.body, *std::max_element(owned_k_a.begin(), owned_k_a.end())));
     row.insert(row.end(), {e.kinetic, e.strain, double(e.min_jacobian), double(e.max_jacobian), max_T, heart_.mean_potential(),
                            dt, max_k_a});
     smallest_step_ = std::min(smallest_step_, dt);
@@ -125,8 +129,9 @@ class HeartRecorder {
     return row;
   }
   std::vector<double> observer_row() const {
-    const auto V = heart_.body->field(heart_.monodomain->potential_field());
-    const std::span<const Real> T(heart_.tension->tension());
+    std::vector<Real> whole_V, whole_T;
+    const auto V = sph::gather_all(*heart_.body, std::span<const Real>(heart_.body->field(heart_.monodomain->potential_field())), whole_V);
+    const auto T = sph::gather_all(*heart_.body, std::span<const Real>(heart_.tension->tension()), whole_T);
     const auto x = material_point_positions<3>(probes_, *heart_.solid);
     std::vector<double> row;
     for (std::size_t p = 0; p < probes_.size(); ++p)
@@ -188,8 +193,10 @@ void compare_with_reference(sph::RunReport& r, const nlohmann::json& reference_b
 
 /// activation_map.csv (reference x, y, z, first activation time after the first stimulus at
 /// `origin`, -1 where not activated, and with the maps the latest APD) and activation_map.png, the
-/// particles coloured by their activation time.
-void write_activation_map(const std::filesystem::path& folder, const HeartModel& heart, double origin);
+/// particles coloured by their activation time; `activation` and `apd` (empty without maps) are
+/// the whole heart's, by global id.
+void write_activation_map(const std::filesystem::path& folder, const HeartModel& heart, std::span<const Real> activation,
+                          std::span<const Real> apd, double origin);
 
 /// The electrodes of the pseudo-ECG: the 12-lead set placed by the heart's frame (its centre, the
 /// base-to-apex direction -base_normal and the LV-to-RV endocardial centroids), or the given ones.

@@ -77,11 +77,12 @@ std::vector<cardio::Electrode> parse_electrodes(const std::string& text) {
 
 EcgRecorder::EcgRecorder(const EcgParameters& p, std::vector<cardio::Electrode> electrodes, bool twelve_lead,
                          const sph::NeighbourList<3>& relation, std::span<const sph::Vec<3>> reference_positions,
-                         std::span<const sph::Real> volumes, double particle_spacing, Source source, sph::RunHarness& run)
+                         std::span<const sph::Real> volumes, double particle_spacing, Source source, sph::RunHarness& run,
+                         const sph::ParticleSet<3>* distributed)
     : ecg_([&]() -> cardio::PseudoEcg {
         try {
           return {std::move(electrodes), relation, reference_positions, volumes,
-                  p.surface_to_volume * p.capacitance / p.bath_conductivity, 2 * particle_spacing};
+                  p.surface_to_volume * p.capacitance / p.bath_conductivity, 2 * particle_spacing, distributed};
         } catch (const std::invalid_argument& e) {
           throw sph::ParameterError(std::string(e.what()) + (twelve_lead ? " (raise ecg_chest_radius)" : " (ecg_electrodes)"));
         }

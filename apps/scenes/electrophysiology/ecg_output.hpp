@@ -49,7 +49,8 @@ class EcgRecorder {
   /// electrodes: parsed or placed by the scene; `twelve_lead` combines them into the 12 leads.
   EcgRecorder(const EcgParameters& p, std::vector<cardio::Electrode> electrodes, bool twelve_lead,
               const sph::NeighbourList<3>& relation, std::span<const sph::Vec<3>> reference_positions,
-              std::span<const sph::Real> volumes, double particle_spacing, Source source, sph::RunHarness& run);
+              std::span<const sph::Real> volumes, double particle_spacing, Source source, sph::RunHarness& run,
+              const sph::ParticleSet<3>* distributed = nullptr);
   /// One beat of the ECG: its stimulus time and length, and how long after the stimulus the QRS is
   /// sought.
   struct Beat {

@@ -112,9 +112,10 @@ nlohmann::json ep_map_summary(cardio::Monodomain<Dim>& monodomain) {
   if (!maps) return nullptr;
   monodomain.update_conduction_velocity();
   const auto& body = monodomain.particles();
-  auto values = [&](sph::FieldHandle<sph::Real> field, double lowest) {
+  auto values = [&](sph::FieldHandle<sph::Real> field, double lowest) {  // over the whole set (gathered)
+    std::vector<sph::Real> whole;
     std::vector<double> v;
-    for (sph::Real x : body.field(field))
+    for (sph::Real x : sph::gather_all(body, std::span<const sph::Real>(body.field(field)), whole))
       if (x > lowest) v.push_back(x);
     return v;
   };
