@@ -15,8 +15,7 @@ BoundarySprings::BoundarySprings(sph::ElasticSolid<3>& solid, std::vector<Cavity
     if (k == 0) continue;
     Spring spring{&surface, k, normal_only, {}};
     const sph::SharedSelection<3> loaded(solid.particles(), surface.loaded_particles);
-    for (std::size_t m = 0; m < loaded.size(); ++m)
-      if (loaded.owned(m) != loaded.not_owned) spring.owned.emplace_back(m, loaded.owned(m));
+    for (std::size_t m = 0; m < loaded.size(); ++m) spring.owned.push_back(loaded.owned(m));
     springs_.push_back(std::move(spring));
   }
   if (!has_base)
@@ -31,7 +30,9 @@ void interact(sph::ElasticSolid<3>& on, const BoundarySprings& by, sph::SamePart
   const auto X = body.field(on.reference_position_field());
   const auto force = body.field(on.external_force_field());
   for (const auto& [surface, k, normal_only, owned] : by.springs())
-    for (const auto& [m, i] : owned) {
+    for (std::size_t m = 0; m < surface->loaded_particles.size(); ++m) {
+      const auto i = owned[m];
+      if (i == sph::SharedSelection<3>::not_owned) continue;
       const sph::Vec<3> u = body.position[i] - X[i], A = surface->area_normals[m];
       force[i] -= normal_only ? sph::Vec<3>(k * u.dot(A) / A.norm() * A) : sph::Vec<3>(k * A.norm() * u);
     }

@@ -28,8 +28,9 @@ class BoundarySprings {
     const CavitySurface* surface = nullptr;
     Real stiffness = 0;        ///< [force / length^3]: k per area
     bool normal_only = false;  ///< the epicardium: along the normal only
-    /// The surface's loaded particles on this rank: (entry of loaded_particles, owned local index).
-    std::vector<std::pair<std::size_t, sph::Index>> owned;
+    /// Per entry of the surface's loaded_particles: its owned local index on this rank, or
+    /// sph::SharedSelection<3>::not_owned.
+    std::vector<sph::Index> owned;
   };
 
   /// The epicardium (label_epi) and base (label_base) surfaces of cardio::cavity_surfaces, with

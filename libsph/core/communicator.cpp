@@ -27,36 +27,25 @@ MPI_Comm world_comm = MPI_COMM_WORLD;
 
 const void* Communicator::native_handle() const { return &world_comm; }
 
-double Communicator::min(double value) const {
-  if (size_ == 1) return value;
-  ++traffic_.collectives;
-  double out;
-  MPI_Allreduce(&value, &out, 1, MPI_DOUBLE, MPI_MIN, comm_of(*this));
+namespace {
+/// One all-reduce of one value of MPI type `type` with operation `op` (counted as a collective).
+template <class T>
+T all_reduce(const Communicator& comm, Communicator::Traffic& traffic, T value, MPI_Datatype type, MPI_Op op) {
+  if (comm.size() == 1) return value;
+  ++traffic.collectives;
+  T out;
+  MPI_Allreduce(&value, &out, 1, type, op, comm_of(comm));
   return out;
 }
+}  // namespace
 
-double Communicator::max(double value) const {
-  if (size_ == 1) return value;
-  ++traffic_.collectives;
-  double out;
-  MPI_Allreduce(&value, &out, 1, MPI_DOUBLE, MPI_MAX, comm_of(*this));
-  return out;
-}
-
+double Communicator::min(double value) const { return all_reduce(*this, traffic_, value, MPI_DOUBLE, MPI_MIN); }
+double Communicator::max(double value) const { return all_reduce(*this, traffic_, value, MPI_DOUBLE, MPI_MAX); }
 unsigned long long Communicator::min(unsigned long long value) const {
-  if (size_ == 1) return value;
-  ++traffic_.collectives;
-  unsigned long long out;
-  MPI_Allreduce(&value, &out, 1, MPI_UNSIGNED_LONG_LONG, MPI_MIN, comm_of(*this));
-  return out;
+  return all_reduce(*this, traffic_, value, MPI_UNSIGNED_LONG_LONG, MPI_MIN);
 }
-
 unsigned long long Communicator::sum(unsigned long long value) const {
-  if (size_ == 1) return value;
-  ++traffic_.collectives;
-  unsigned long long out;
-  MPI_Allreduce(&value, &out, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm_of(*this));
-  return out;
+  return all_reduce(*this, traffic_, value, MPI_UNSIGNED_LONG_LONG, MPI_SUM);
 }
 
 bool Communicator::any(bool flag) const {
