@@ -45,7 +45,7 @@ void ActiveTension<Dim>::advance(Real time, Real dt) {
   std::swap(start_, end_);
   if (s.model == TensionModel::land_2017) {
     const bool stiff = !stiffness_.empty();
-    sph::parallel_for(y.size(), [&](std::size_t i) {
+    sph::parallel_for(particles_.n_owned(), [&](std::size_t i) {
       const double calcium = s.calcium_scale * 0.5 * (double(synced_driver_[i]) + double(y[i]));
       const double lambda = stretch_[i], change = double(stretch_[i]) - double(previous_stretch_[i]);
       // Where the last step ended: the tension the solid applied there (see the header).
@@ -63,7 +63,7 @@ void ActiveTension<Dim>::advance(Real time, Real dt) {
       previous_stretch_[i] = stretch_[i];
     });
   } else {
-    sph::parallel_for(y.size(), [&](std::size_t i) {
+    sph::parallel_for(particles_.n_owned(), [&](std::size_t i) {
       const double mean = 0.5 * (double(synced_driver_[i]) + double(y[i]));
       const double target = s.k_a * (mean - s.rest_potential);
       double T = target + (double(start_[i]) - target) * std::exp(-s.rate(mean) * double(dt));

@@ -36,6 +36,8 @@
 // allow_negative (the target k_a (V - V_r) is negative where V dips below the rest potential).
 // The tension at the start and end of the last step is kept, so the mechanics sub-steps inside it
 // see T_a interpolated linearly in time (no lag between the fields).
+// On a distributed body the cells of the owned particles advance (the solid reads the tension of
+// its owned particles only).
 
 #include <cmath>
 #include <span>

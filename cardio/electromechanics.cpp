@@ -21,7 +21,7 @@ void interact(ActiveTension<Dim>& on, const sph::ElasticSolid<Dim>& by, sph::Sam
   const auto F = body.field(by.deformation_gradient_field());
   const auto f0 = body.field(by.fibre_field());
   const auto stretch = on.fibre_stretch();
-  sph::parallel_for(stretch.size(), [&](std::size_t i) { stretch[i] = (F[i] * f0[i]).norm(); });
+  sph::parallel_for(body.n_owned(), [&](std::size_t i) { stretch[i] = (F[i] * f0[i]).norm(); });
 }
 
 template <int Dim>
