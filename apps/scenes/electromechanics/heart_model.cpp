@@ -198,10 +198,11 @@ HeartModel::HeartModel(const HeartParameters& p, const cardio::HeartGeometry& g,
   ttp = p.cell_model == CellModel::ten_tusscher_panfilov;
   dimensionless = p.cell_model == CellModel::aliev_panfilov_dimensionless;
   if (ttp) cell_groups = heart_cell_groups(*this, p, g);
-  // (the cells' lane blocks kept whole on a rank: quiescent blocks then skip as on one rank)
+  // (with quiescent cells their lane blocks kept whole on a rank, so that they skip as on one rank)
   if (sph::Communicator::world().size() > 1)
     sph::distribute(*body, std::visit([this]<class K>(const K&) { return K::support_radius(h); }, kernel),
-                    sph::Communicator::world(), sph::reaction_blocks(cell_groups.group, n()));
+                    sph::Communicator::world(),
+                    p.monodomain.quiescent_step > 0 ? sph::reaction_blocks(cell_groups.group, n()) : std::vector<sph::Index>{});
   relation = std::make_unique<const sph::InnerRelation<3>>(sph::build_inner_relation<3>(*body, kernel, h));
   // 2. Solid.
   solid = std::make_unique<sph::ElasticSolid<3>>(*body, *relation, solid_settings(p));
