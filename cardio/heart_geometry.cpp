@@ -22,7 +22,7 @@ using geometry::Vec3;
 using Clock = std::chrono::steady_clock;
 
 // Version of the stage: bump when the generation, labels or fibres change, so old caches are not reused.
-constexpr const char* stage_version = "heart-geometry-3";
+constexpr const char* stage_version = "heart-geometry-4";
 constexpr char magic[8] = {'C', 'S', 'P', 'H', 'G', 'E', 'O', '1'};
 
 std::string read_bytes(const fs::path& path, const std::string& what) {
