@@ -1,6 +1,7 @@
 #include "libsph/core/distribution.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
@@ -379,9 +380,22 @@ struct MovingPartition<Dim>::Cuts {
   ~Cuts() {
     if (zz) Zoltan_Destroy(&zz);
   }
+  /// This rank's region (Zoltan_RCB_Box: the cuts that bound it, +-DBL_MAX where none does).
+  std::array<double, 3> lower{}, upper{};
   void cut(const Communicator& comm) {
     if (zz) Zoltan_Destroy(&zz);
     zz = bisect<Dim>(comm, points, true, nullptr);
+    int dim = 0;
+    if (Zoltan_RCB_Box(zz, comm.rank(), &dim, &lower[0], &lower[1], &lower[2], &upper[0], &upper[1], &upper[2]) != ZOLTAN_OK)
+      throw std::runtime_error("distribution: Zoltan gave no region for rank " + std::to_string(comm.rank()));
+  }
+  /// Whether x lies inside this rank's region farther than `margin` from its every side. Such a
+  /// point is this rank's (margin 0), and with margin r no other region lies within r of it: the
+  /// point and box queries below would answer this rank alone, and are skipped.
+  bool inside(const Vec<Dim>& x, Real margin) const {
+    for (int d = 0; d < Dim; ++d)
+      if (!(lower[d] + double(margin) < double(x[d]) && double(x[d]) < upper[d] - double(margin))) return false;
+    return true;
   }
   int owner(const Vec<Dim>& x) const {
     double c[3] = {0, 0, 0};
@@ -461,7 +475,10 @@ void MovingPartition<Dim>::update(ParticleSet<Dim>& particles) {
 
   // 1. Every owned particle to the rank of its region (this one included).
   std::vector<std::vector<Index>> go(ranks);
-  for (std::size_t i = 0; i < n_owned; ++i) go[static_cast<std::size_t>(cuts.owner(particles.position[i]))].push_back(static_cast<Index>(i));
+  for (std::size_t i = 0; i < n_owned; ++i) {
+    const Vec<Dim>& x = particles.position[i];
+    go[cuts.inside(x, 0) ? me : static_cast<std::size_t>(cuts.owner(x))].push_back(static_cast<Index>(i));
+  }
   auto [owned, arrived_from] = send_particles<Dim>(particles, id, go, 0, comm_);
   (void)arrived_from;
 
@@ -469,6 +486,7 @@ void MovingPartition<Dim>::update(ParticleSet<Dim>& particles) {
   std::vector<std::vector<Index>> ghost_to(ranks);
   std::vector<int> parts(ranks), procs(ranks);
   for (std::size_t i = 0; i < owned.size(); ++i) {
+    if (cuts.inside(particles.position[i], ghost_radius_)) continue;
     parts.resize(ranks);
     cuts.near(particles.position[i], ghost_radius_, parts, procs);
     for (const int q : parts)
