@@ -38,9 +38,9 @@ struct RunPlan {
   }
   std::vector<std::pair<std::string, std::function<void(sph::StateArchive&)>>> kept;
 
-  /// observers.csv every `sample_interval` (if the plan has columns) and the kept components.
-  void attach(sph::RunHarness& run, sph::Real sample_interval) const {
-    if (!observer_columns.empty()) run.add_time_series("observers.csv", observer_columns, sample_interval, observers);
+  /// observers.csv every `interval` (if the plan has columns) and the kept components.
+  void attach(sph::RunHarness& run, sph::Real interval) const {
+    if (!observer_columns.empty()) run.add_time_series("observers.csv", observer_columns, interval, observers);
     for (const auto& [name, state] : kept) run.add_state("scene/" + name, state);
   }
 };
