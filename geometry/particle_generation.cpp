@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <limits>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -38,11 +39,12 @@ std::vector<std::size_t> hilbert_order(const std::vector<std::array<long, 3>>& n
   points.reserve(nodes.size());
   for (const auto& [i, j, k] : nodes) points.emplace_back(double(i), double(j), double(k));
   std::vector<std::size_t> order(nodes.size());
-  for (std::size_t p = 0; p < order.size(); ++p) order[p] = p;
+  std::iota(order.begin(), order.end(), std::size_t(0));
   using Traits = CGAL::Spatial_sort_traits_adapter_3<Kernel, CGAL::Pointer_property_map<Kernel::Point_3>::type>;
   CGAL::hilbert_sort(order.begin(), order.end(), Traits(CGAL::make_property_map(points)), CGAL::Hilbert_sort_middle_policy());
   return order;
 }
+
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 // Signed distance on the nodes x_ijk = origin + spacing (i, j, k), with trilinear interpolation.
