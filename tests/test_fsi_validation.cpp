@@ -58,41 +58,78 @@ TEST(FsiRegression, TurekHronFsi2AmplitudeAndFrequency) {
   EXPECT_LT(error(r, "tip_frequency_relative"), 0.19);
 }
 
+// The clamped plate on its own: the hydrostatic-plate scene with a water film of one fluid layer
+// and gravity raised to 155 m/s^2, so that the plate's own weight carries (nearly all of) the load of
+// the 2 m column, q = g (rho_f H + rho_s t) (the reference takes the film into account). At the
+// scene's default solid numerics (4 particles across the plate, quadratic F, Gauss points, clamp by
+// reflection, inertia scaled by 100) the mean mid-span sag over [0.03, 0.15] s lies within 1 % of
+// the clamped Timoshenko beam in plane strain, w = q L^4 / (384 D) + q L^2 / (8 kappa G t)
+// (measured +0.03 %; +0.4 % at 8 across). The thin-plate value alone is 3.6 % shallower: a continuum
+// solid shears. (The kernel-corrected F with a fixed clamp sagged 64 % too deep here, docs/fsi.md.)
+TEST(FsiValidation, PlateAloneBendsAsATimoshenkoBeam) {
+  cardiosph::HydrostaticPlateParameters p;
+  p.water_height = 0.025;
+  p.gravity = 155;
+  p.fluid_density = 1;
+  p.end_time = 0.15;
+  const auto r = run_scene(*cardiosph::make_hydrostatic_plate_scene(p), "plate_alone");
+  const double w = result(r, "mid_span_deflection");
+  std::printf("plate alone, 4 across: sag %.4e, Timoshenko %.4e (%+.2f %%, bound 1 %%), thin plate %.4e (%+.2f %%); %.1f s\n", w,
+              result(r, "reference_deflection"), 100 * (w / result(r, "reference_deflection") - 1),
+              result(r, "thin_plate_deflection"), 100 * (w / result(r, "thin_plate_deflection") - 1), r.wall_time_s);
+  EXPECT_EQ(r.status, "completed");
+  EXPECT_LT(error(r, "deflection_relative"), 0.01);
+}
+
 // The water column on the clamped plate (Fourey et al. 2017) at the scene's default: 4 solid
 // particles across the plate, the fluid twice as coarse, to t = 0.5, the deflection averaged over
-// [0.3, 0.5]. The code misses the thin-plate value: the mid-span deflection is 84 % too deep
-// (-1.26e-4 against -6.86e-5). The TLSPH plate of four particles across is 70 % too soft in bending
-// on its own, under the same load without fluid (docs/fsi.md), and the plate still oscillates about
-// its sag at t = 0.5, so the mean depends on the window (76 % in an earlier measurement). SPHinXsys's
-// own case at its resolution is 44 % too deep. The benchmark's 2 % is not met; the guard is 1.5
-// times today's error. (With the fluid four times coarser and to t = 0.2 the error was 10 %, a
-// cancellation of errors: this test ran that setup before.)
-TEST(FsiRegression, HydrostaticPlateDeflectionAtTheDefault) {
+// [0.1, 0.5] (the column rings in its acoustic mode, about 45 ms, with an amplitude larger than the
+// sag: the mean over many periods is the measure). Against the clamped plate with Timoshenko's
+// shear within 2 % (measured +0.8 %). Fourey et al.'s value is the thin plate's, -6.86e-5, which a
+// continuum solid does not converge to (the plate alone converges to the sheared value, the test
+// above): the deflection is 4.5 % deeper than it, printed beside. SPHinXsys's own case at its
+// resolution is 44 % too deep.
+TEST(FsiValidation, HydrostaticPlateDeflectionAtTheDefault) {
   cardiosph::HydrostaticPlateParameters p;
   const auto r = run_scene(*cardiosph::make_hydrostatic_plate_scene(p), "plate");
   const double w = result(r, "mid_span_deflection"), reference = result(r, "reference_deflection");
-  std::printf("hydrostatic-plate 4 across, fluid ratio 2, t = 0.5: deflection %.4e against %.4e, error %+.3f (the "
-              "benchmark's bound 0.02: not met; guard 1.26); %.1f s\n",
-              w, reference, w / reference - 1, r.wall_time_s);
+  std::printf("hydrostatic-plate 4 across, fluid ratio 2, t = 0.5: deflection %.4e against %.4e (with shear), error %+.3f "
+              "(bound 0.02); against the thin plate %.4e %+.3f (the benchmark's 2 %% on the thin plate: not met, see "
+              "above); %.1f s\n",
+              w, reference, w / reference - 1, result(r, "thin_plate_deflection"),
+              w / result(r, "thin_plate_deflection") - 1, r.wall_time_s);
   EXPECT_EQ(r.status, "completed");
-  EXPECT_LT(w, 0);
-  EXPECT_LT(error(r, "deflection_relative"), 1.26);
+  EXPECT_LT(error(r, "deflection_relative"), 0.02);
 }
 
 // The dam break through the elastic gate (Antoci et al. 2007) at SPHinXsys's resolution (2 fluid and
-// 4 solid particles across the gate), to t = 150 ms, past the gate's widest opening: against
-// SPHinXsys's run of the same setup, the largest |dx| of the free corner within 10 % (measured 6.0 %),
-// its largest dy within 25 % (measured 17 %), and the RMS difference of dx over the curve within
-// 10 % of SPHinXsys's largest |dx| (measured 5.7 %).
-TEST(FsiValidation, ElasticGateOpensAsSphinxsys) {
+// 4 solid particles across the gate), to t = 370 ms, over the whole measured record (the widest
+// opening: the experiment's at 160 ms, SPHinXsys's at 135 ms).
+// Against the experiment (digitised points every 40 ms to 360 ms; the scene names the source; no
+// scatter was published, the two public digitisations agree within 0.5 mm): the largest |dx| at the
+// measured times within 5 % of the largest measured (measured +1.1 %), the largest dy within 30 %
+// (measured +22 %: the gate rises too far, as in SPHinXsys's run, +10 %), the RMS difference of dx
+// over the record within 10 % of the measured peak (measured 8.2 %; over the opening alone, the
+// first four points, 10.6 %: the model opens faster than the experiment).
+// Against SPHinXsys's run of the same setup: the largest |dx| within 10 % (measured 5.7 %), the
+// largest dy within 25 % (measured 17 %), the RMS dx difference within 10 % (measured 5.6 %).
+TEST(FsiValidation, ElasticGateOpensAsTheExperiment) {
   cardiosph::ElasticGateParameters p;
-  p.end_time = 150;
+  p.end_time = 370;
   const auto r = run_scene(*cardiosph::make_elastic_gate_scene(p), "gate");
-  std::printf("elastic-gate t = 150 ms: max |dx| %.2f mm (SPHinXsys 45.13, %.1f %%, bound 10 %%), max dy %.2f mm (18.81, %.1f %%, "
+  std::printf("elastic-gate t = 370 ms against the experiment: largest |dx| at its times %.2f mm (46.39, %+.1f %%, bound 5 %%), "
+              "largest dy %.2f mm (17.09, %.1f %%, bound 30 %%), RMS dx difference %.1f %% (bound 10 %%), RMS dy %.1f %%\n",
+              result(r, "tip_max_abs_dx_at_experiment_times"), 100 * error(r, "experiment_max_dx_relative"),
+              result(r, "tip_max_dy_at_experiment_times"), 100 * error(r, "experiment_max_dy_relative"),
+              100 * error(r, "experiment_dx_rms_relative"), 100 * error(r, "experiment_dy_rms_relative"));
+  std::printf("elastic-gate against SPHinXsys: max |dx| %.2f mm (45.13, %.1f %%, bound 10 %%), max dy %.2f mm (18.81, %.1f %%, "
               "bound 25 %%), RMS dx difference %.1f %% (bound 10 %%); %.1f s\n",
               result(r, "tip_max_abs_dx"), 100 * error(r, "tip_max_dx_relative"), result(r, "tip_max_dy"),
               100 * error(r, "tip_max_dy_relative"), 100 * error(r, "tip_dx_rms_relative"), r.wall_time_s);
   EXPECT_EQ(r.status, "completed");
+  EXPECT_LT(error(r, "experiment_max_dx_relative"), 0.05);
+  EXPECT_LT(error(r, "experiment_max_dy_relative"), 0.30);
+  EXPECT_LT(error(r, "experiment_dx_rms_relative"), 0.10);
   EXPECT_LT(error(r, "tip_max_dx_relative"), 0.10);
   EXPECT_LT(error(r, "tip_max_dy_relative"), 0.25);
   EXPECT_LT(error(r, "tip_dx_rms_relative"), 0.10);

@@ -22,6 +22,20 @@ void declare_fsi_solid_numerics(sph::Parameters& p, FsiSolidNumerics& n) {
   p.add("acceleration_relaxation", n.acceleration_relaxation, "-",
         "theta: the weight of the newest step-mean solid acceleration in the one the fluid's wall pressure uses (1: no relaxation)",
         {0, 1, true, false});
+  p.add("solid_mass_scaling", n.mass_scaling, "-",
+        "factor on the solid's inertia for quasi-static scenes (its weight stays physical): the solid's step grows by its "
+        "square root; 1 = physical inertia",
+        sph::Range::closed(1, 1e6));
+  p.add_enum("hourglass_control", n.hourglass_control, sph::hourglass_control_names(),
+             "the solid's zero-energy-mode control: penalty (Ganzenmueller 2015) or energy (conservative)");
+  p.add_enum("deformation_gradient", n.deformation_gradient, sph::deformation_gradient_names(),
+             "the solid's reconstruction of F: corrected (exact for linear motion) or quadratic (weighted least squares, "
+             "exact for quadratic motion, also at free surfaces)");
+  p.add_enum("quadrature", n.quadrature, sph::quadrature_names(),
+             "integration of each solid particle's energy: nodal or gauss (needs deformation_gradient = quadratic)");
+  p.add_choice("clamp", n.clamp, {"fixed", "reflection"},
+               "hold of the solid's clamped particles: fixed (at rest) or reflection (odd reflection of the displacement "
+               "across the flat clamp face; where the scene's clamp has flat faces on half-spacings)");
 }
 
 void FsiBody::add_to(sph::RunHarness& run, sph::Stage& fluid_step, sph::Real output_interval) {
@@ -48,12 +62,42 @@ std::unique_ptr<FsiBody> make_fsi_body(sph::ParticleSet<2> particles, const std:
   settings.body_force = spec.gravity;
   settings.numerics.hourglass_coefficient = static_cast<sph::Real>(numerics.hourglass_coefficient);
   settings.numerics.cfl = static_cast<sph::Real>(numerics.acoustic_cfl);
-  body->solid = std::make_unique<sph::ElasticSolid<2>>(body->particles, body->relation, settings);
+  settings.numerics.mass_scaling = static_cast<sph::Real>(numerics.mass_scaling);
+  settings.numerics.hourglass_control = numerics.hourglass_control;
+  settings.numerics.deformation_gradient = numerics.deformation_gradient;
+  settings.numerics.quadrature = numerics.quadrature;
+  try {
+    body->solid = std::make_unique<sph::ElasticSolid<2>>(body->particles, body->relation, settings);
+  } catch (const std::invalid_argument& e) {
+    throw sph::ParameterError(e.what());
+  }
+  if (numerics.clamp == "reflection" && spec.clamp_faces.empty())
+    throw sph::ParameterError("parameter 'clamp' = reflection: the clamp of body '" + body->particles.name() +
+                              "' has no flat face to reflect across; use 'fixed'");
   if (spec.clamped) {
     std::vector<sph::Index> clamped;
-    for (std::size_t i = 0; i < body->particles.n_particles(); ++i)
-      if (spec.clamped(body->particles.position[i])) clamped.push_back(static_cast<sph::Index>(i));
-    body->solid->clamp(std::move(clamped));
+    std::vector<std::vector<sph::Index>> behind(spec.clamp_faces.size());
+    for (std::size_t i = 0; i < body->particles.n_particles(); ++i) {
+      const auto& x = body->particles.position[i];
+      if (!spec.clamped(x)) continue;
+      if (numerics.clamp == "fixed") {
+        clamped.push_back(static_cast<sph::Index>(i));
+        continue;
+      }
+      std::size_t f = 0;
+      while (f < spec.clamp_faces.size() && (x - spec.clamp_faces[f].point).dot(spec.clamp_faces[f].normal) >= 0) ++f;
+      if (f == spec.clamp_faces.size())
+        throw std::logic_error("clamped particle of body '" + body->particles.name() + "' behind none of its clamp faces");
+      behind[f].push_back(static_cast<sph::Index>(i));
+    }
+    if (!clamped.empty()) body->solid->clamp(std::move(clamped));
+    try {
+      for (std::size_t f = 0; f < behind.size(); ++f)
+        if (!behind[f].empty())
+          body->solid->clamp_by_reflection(std::move(behind[f]), spec.clamp_faces[f].point, spec.clamp_faces[f].normal);
+    } catch (const std::invalid_argument& e) {
+      throw sph::ParameterError(std::string("parameter 'clamp' = reflection: ") + e.what());
+    }
   }
   try {
     body->coupling = std::make_unique<sph::SolidFluidCoupling<2>>(

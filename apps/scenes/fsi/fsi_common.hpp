@@ -37,6 +37,13 @@ struct FsiBodySpec {
   double damping_rate = 0;
   sph::Vec<2> gravity = sph::Vec<2>::Zero();
   std::function<bool(const sph::Vec<2>&)> clamped;  ///< particles held at their reference position
+  /// The clamp's flat faces, where it has them (a point on the face and the normal towards the free
+  /// part): with FsiSolidNumerics::clamp = "reflection" each clamped particle behind a face is held
+  /// by odd reflection across it. Empty: the clamp is not flat and "reflection" is refused.
+  struct ClampFace {
+    sph::Vec<2> point, normal;
+  };
+  std::vector<ClampFace> clamp_faces;
 };
 
 /// Builds the Saint Venant-Kirchhoff body on `particles` (reference normals given), clamps, and
