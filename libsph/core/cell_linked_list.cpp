@@ -61,6 +61,8 @@ void CellLinkedList<Dim>::rebuild(std::span<const Vec<Dim>> sources, Real search
     for (std::size_t i = 0; i < sources.size(); ++i) cell_particles_[next_[cell_of_[i]]++] = static_cast<Index>(i);
   else
     for (const Index i : order) cell_particles_[next_[cell_of_[i]]++] = i;
+  cell_positions_.resize(sources.size());
+  for (std::size_t k = 0; k < sources.size(); ++k) cell_positions_[k] = sources[cell_particles_[k]];
 }
 
 template <int Dim>
@@ -80,6 +82,7 @@ void CellLinkedList<Dim>::order_by_position(std::span<const Vec<Dim>> sources) {
       for (; j > first && before(value, *(j - 1)); --j) *j = *(j - 1);
       *j = value;
     }
+    for (std::size_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) cell_positions_[k] = sources[cell_particles_[k]];
   });
 }
 

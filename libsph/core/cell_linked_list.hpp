@@ -58,12 +58,40 @@ class CellLinkedList {
     }
   }
 
+  /// Calls visit(j) for every source j within `radius2` (squared distance, strictly less) of `x`, in
+  /// the order of for_each_candidate. The cells of a row of the stencil are adjacent in memory, and
+  /// the sources' positions are kept in that order (cell_positions_): the test runs over a few
+  /// contiguous ranges instead of gathering positions through indices.
+  template <class Visit>
+  void for_each_within(const Vec<Dim>& x, Real radius2, Visit&& visit) const {
+    std::array<long, Dim> lo, hi;
+    for (int d = 0; d < Dim; ++d) {
+      const long c = cell_coordinate(x[d], d);
+      lo[d] = std::max(c - 1, 0L);
+      hi[d] = std::min(c + 1, static_cast<long>(n_cells_[d]) - 1);
+      if (lo[d] > hi[d]) return;
+    }
+    auto visit_row = [&](long first_cell, long last_cell) {
+      for (std::size_t k = cell_start_[first_cell]; k < cell_start_[last_cell + 1]; ++k)
+        if ((x - cell_positions_[k]).squaredNorm() < radius2) visit(cell_particles_[k]);
+    };
+    if constexpr (Dim == 2) {
+      for (long cy = lo[1]; cy <= hi[1]; ++cy) visit_row(lo[0] + cy * n_cells_[0], hi[0] + cy * n_cells_[0]);
+    } else {
+      for (long cz = lo[2]; cz <= hi[2]; ++cz)
+        for (long cy = lo[1]; cy <= hi[1]; ++cy) {
+          const long row = n_cells_[0] * (cy + n_cells_[1] * cz);
+          visit_row(lo[0] + row, hi[0] + row);
+        }
+    }
+  }
+
   Real cell_size() const { return cell_size_; }
   std::size_t n_cells() const { return cell_start_.size() - 1; }
   /// Bytes held (cell offsets, binned indices and the sort's scratch).
   std::size_t bytes() const {
     return (cell_start_.capacity() + cell_of_.capacity() + next_.capacity()) * sizeof(std::size_t) +
-           cell_particles_.capacity() * sizeof(Index);
+           cell_particles_.capacity() * sizeof(Index) + cell_positions_.capacity() * sizeof(Vec<Dim>);
   }
   /// The sources cell by cell (cells in memory order, sources by index within a cell).
   std::span<const Index> cell_order() const { return cell_particles_; }
@@ -85,6 +113,7 @@ class CellLinkedList {
   std::array<std::size_t, Dim> n_cells_{};
   std::vector<std::size_t> cell_start_;  ///< CSR offsets into cell_particles_, size n_cells + 1
   std::vector<Index> cell_particles_;
+  std::vector<Vec<Dim>> cell_positions_;  ///< the sources' positions in the order of cell_particles_
   std::vector<std::size_t> cell_of_, next_;  // scratch of the counting sort
 };
 

@@ -85,12 +85,10 @@ void fill_relation(NeighbourList<Dim>& list, std::span<const Vec<Dim>> targets, 
   parallel_for(n, [&](std::size_t i) {
     std::size_t c = 0;
     Index* kept = list.candidates.data() + i * stride;
-    cells.for_each_candidate(targets[i], [&](Index j) {
+    cells.for_each_within(targets[i], support2, [&](Index j) {
       if (exclude_self && j == i) return;
-      if ((targets[i] - sources[j]).squaredNorm() < support2) {
-        if (c < stride) kept[c] = j;
-        ++c;
-      }
+      if (c < stride) kept[c] = j;
+      ++c;
     });
     count[i] = c;
   });
