@@ -285,7 +285,7 @@ void ElasticSolid<Dim>::build_quadratic_reconstruction() {
         pair_curvature_[k].reverse = curvature[reverse[k]].template cast<PairReal>();
         c_sum_[i] += pair_curvature_[k].c.template cast<Real>();
       }
-      for (auto& Q : gauss_moment_[i]) Q.setZero();
+      for (auto& moment : gauss_moment_[i]) moment.setZero();
     });
   }
   pair_weights_.resize(rel.n_pairs());
@@ -498,20 +498,19 @@ std::size_t ElasticSolid<Dim>::compute_deformation_and_stress() {
           }
           auto stress_at = [&](const Mat<Dim>& Fg) -> Mat<Dim> {
             if constexpr (Law::anisotropic) {
-              Mat<Dim> S = law.second_piola(Fg, f[i], s[i]);
+              Mat<Dim> Sg = law.second_piola(Fg, f[i], s[i]);
               if (!T.empty()) {
                 Real tension = T[i];
                 if (!K.empty()) {
                   tension += K[i] * ((Fg * f[i]).norm() - L0[i]);
                   if (non_negative) tension = std::max(tension, Real(0));
                 }
-                S.noalias() += tension * (f[i] * f[i].transpose());
+                Sg.noalias() += tension * (f[i] * f[i].transpose());
               }
-              return Fg * S;
-            } else {
-              const Vec<Dim> none = Vec<Dim>::Zero();
-              return Fg * law.second_piola(Fg, none, none);
+              return Fg * Sg;
             }
+            const Vec<Dim> none = Vec<Dim>::Zero();
+            return Fg * law.second_piola(Fg, none, none);
           };
           Mat<Dim> P = Mat<Dim>::Zero();
           if (gauss) {
