@@ -15,6 +15,7 @@
 #include "libsph/fluid/weakly_compressible_fluid.hpp"
 #include "libsph/fsi/rigid_body.hpp"
 #include "libsph/fsi/solid_fluid_coupling.hpp"
+#include "apps/scenes/fsi/fsi_common.hpp"
 #include "libsph/solid/elastic_solid.hpp"
 
 namespace {
@@ -324,3 +325,20 @@ TEST(Fsi, SolidThinnerThanOneFluidParticleIsRefused) {
 
 }  // namespace
 
+
+// The oscillation statistics of the FSI scenes: a sine of amplitude 0.8 about 0.1 at frequency 0.2,
+// sampled every 0.04 over 100 time units, with one noise spike of +0.3 on the crest at t = 61.24. The half range of
+// the whole window takes the spike (0.95); the mean of the periods' half ranges (Turek & Hron's
+// per-period amplitude) moves by the spike's share of one period in twenty (0.8 + 0.15 / 20).
+TEST(FsiStatistics, PeriodAmplitudeIsTheMeanOverPeriodsAndTheHalfRangeTakesTheSpike) {
+  std::vector<double> t, y;
+  for (int k = 0; k <= 2500; ++k) {
+    t.push_back(0.04 * k);
+    y.push_back(0.1 + 0.8 * std::sin(2 * M_PI * 0.2 * t.back()) + (k == 1531 ? 0.3 : 0.0));
+  }
+  const auto o = cardiosph::analyse_oscillation(t, y, 0);
+  EXPECT_NEAR(o.frequency, 0.2, 0.002);
+  EXPECT_NEAR(o.amplitude, 0.8 + 0.15, 0.01);
+  EXPECT_NEAR(o.period_amplitude, 0.8 + 0.15 / 20, 0.01);
+  EXPECT_NEAR(o.period_mean, 0.1 + 0.15 / 20, 0.01);
+}

@@ -150,6 +150,23 @@ Oscillation analyse_oscillation(const std::vector<double>& t, const std::vector<
   o.frequency = best_f;
   o.cycles = static_cast<std::size_t>(best_f * span);
   o.harmonic_amplitude = 2 * best / span;
+  if (o.cycles > 0) {
+    const double period = 1 / best_f;
+    double means = 0, halves = 0;
+    for (std::size_t c = 0; c < o.cycles; ++c) {
+      const double to = ts.back() - double(c) * period, from = to - period;
+      double period_lo = 1e300, period_hi = -1e300;
+      for (std::size_t k = 0; k < ts.size(); ++k)
+        if (ts[k] > from && ts[k] <= to) {
+          period_lo = std::min(period_lo, ys[k]);
+          period_hi = std::max(period_hi, ys[k]);
+        }
+      means += 0.5 * (period_hi + period_lo);
+      halves += 0.5 * (period_hi - period_lo);
+    }
+    o.period_mean = means / double(o.cycles);
+    o.period_amplitude = halves / double(o.cycles);
+  }
   return o;
 }
 

@@ -58,8 +58,13 @@ std::unique_ptr<FsiBody> make_fsi_body(sph::ParticleSet<2> particles, const std:
 /// (max - min) / 2 (the "mean +- amplitude" of Turek & Hron 2006), the dominant frequency (the peak
 /// of the Fourier transform, which noise at other frequencies does not shift) and the amplitude of
 /// that harmonic alone.
+/// Also, per whole period of the dominant frequency (consecutive windows of 1 / frequency from the
+/// window's end backwards), the period's own mean and half range, averaged over the periods: the
+/// statistic of Turek & Hron 2006, who take mean and amplitude "from the last period", made robust
+/// to the particle-scale noise whose extremes set the half range over many periods.
 struct Oscillation {
   double mean = 0, amplitude = 0, frequency = 0, harmonic_amplitude = 0;
+  double period_mean = 0, period_amplitude = 0;
   std::size_t cycles = 0;  ///< whole periods of the dominant frequency in the window
 };
 Oscillation analyse_oscillation(const std::vector<double>& t, const std::vector<double>& y, double t_start);
