@@ -87,7 +87,7 @@ void interact(Cavities& on, const CirculationCoupling& by, sph::SameParticles, R
   }
   const auto& circulation = by.circulation();
   const auto& settings = circulation.settings();
-  for (const auto [c, ventricle] : {std::pair{by.lv(), Ventricle::left}, std::pair{by.rv(), Ventricle::right}}) {
+  for (const auto& [c, ventricle] : {std::pair{by.lv(), Ventricle::left}, std::pair{by.rv(), Ventricle::right}}) {
     on.pressure(c).set(circulation.pressure(ventricle));
     // p_ref + (V_b - V) / C_c, Circulation::pressure_at_volume with the circulation's current state.
     on.couple(c, {circulation.reference_pressure(ventricle), circulation.ventricle_blood_volume(ventricle),

@@ -423,7 +423,7 @@ TEST(CirculationCoupling, PreloadRampsThenTheCirculationStartsAndLoadsTheCavitie
   EXPECT_NEAR(coupling.circulation().time(), 2, 1e-12);  // its time 0 is the start
   EXPECT_NEAR(coupling.initial_blood_volume(), coupling.circulation().total_blood_volume(), 1e-9 * coupling.initial_blood_volume());
   // Each cavity takes p = p_ref + (V_b - V) / C_c of its ventricle.
-  for (const auto [c, v] : {std::pair{coupling.lv(), Ventricle::left}, std::pair{coupling.rv(), Ventricle::right}}) {
+  for (const auto& [c, v] : {std::pair{coupling.lv(), Ventricle::left}, std::pair{coupling.rv(), Ventricle::right}}) {
     const auto& penalty = cavities.penalty(c);
     ASSERT_TRUE(penalty.has_value());
     const double V = cavities.volume(c);

@@ -154,8 +154,8 @@ class ImpactScene final : public Scene {
     double total_area = 0, smallest = 1e300, largest_size = 0;
     for (std::size_t i = 0; i < n_target; ++i) {
       if (!(A[i] > 0)) continue;
-      const double volume = m[i] / rho[i];
-      total_area += A[i] * volume;
+      const double particle_volume = m[i] / rho[i];
+      total_area += A[i] * particle_volume;
       const double l_max = sph::largest_fragment_size(weibull, sph::most_frequent_fragment_size(weibull, A[i]));
       smallest = std::min(smallest, l_max);
       largest_size = std::max(largest_size, l_max);
