@@ -1,5 +1,5 @@
 // Validation and stability of the weakly-compressible fluid scenes (label: validation), at coarse
-// resolution, and the regression guard of the one that misses its reference (FluidRegression).
+// resolution.
 // Every bound on an error against a reference lies within about three times the error measured
 // now (docs/fluid.md has the convergence tables), and each test prints the measured value beside
 // its bound.
@@ -104,22 +104,22 @@ TEST(FluidValidation, LidDrivenCavityCentreLinesAtTwoResolutions) {
   }
 }
 
-// Taylor-Green vortex at Re 100 at the scene's default (50 particles across, t = 1). The code misses
-// the reference here: the kinetic energy decays 32 % faster than 16 pi^2 / Re, against the 5 %
-// asked (docs/fluid.md: the particles on the lines through the hyperbolic stagnation points clump;
-// the bound is met only at 200 across, the long test). A regression guard: the decay-rate error and
-// the velocity L2 error at about 1.5 times today's (0.316 and 0.254), the published bound printed
-// beside them.
-TEST(FluidRegression, TaylorGreenDecayRateAtTheDefault) {
+// Taylor-Green vortex at Re 100 at the scene's default (50 particles across, t = 1, the
+// kernel-corrected pressure force): the kinetic energy's decay rate within 5 % of 16 pi^2 / Re
+// (measured +3.1 %; +32 % with the plain pressure force, docs/fluid.md). The velocity field's L2
+// error against the exact solution (measured 0.079; 0.25 with the plain force) has no published
+// bound: bounded at 0.12, 1.5 times today's (round-off-level changes of the arithmetic move it by
+// about 7 %: the particle pattern after the lattice breaks up near t = 0.1 is chaotic).
+TEST(FluidValidation, TaylorGreenDecayRateAtTheDefault) {
   cardiosph::TaylorGreenParameters p;
   const auto r = run_scene(*cardiosph::make_taylor_green_scene(p), "taylor_green");
   const double rate = result(r, "decay_rate"), exact = result(r, "reference_decay_rate");
-  std::printf("taylor-green Re100 n=50 t=1: decay rate %.4f (exact %.4f), error %+.4f (bound 0.05: not met; guard 0.47), "
-              "velocity L2 %.4f (guard 0.38), %.1f s\n",
+  std::printf("taylor-green Re100 n=50 t=1: decay rate %.4f (exact %.4f), error %+.4f (bound 0.05), "
+              "velocity L2 %.4f (bound 0.12), %.1f s\n",
               rate, exact, rate / exact - 1, error(r, "velocity_l2_relative"), r.wall_time_s);
   EXPECT_GT(rate, 0);
-  EXPECT_LT(error(r, "decay_rate_relative"), 0.47);
-  EXPECT_LT(error(r, "velocity_l2_relative"), 0.38);
+  EXPECT_LT(error(r, "decay_rate_relative"), 0.05);
+  EXPECT_LT(error(r, "velocity_l2_relative"), 0.12);
 }
 
 }  // namespace

@@ -15,6 +15,12 @@
 
 namespace sph {
 
+/// B from its moment matrix -sum_j V_j r_ij dW/dr e_ij (x) e_ij, with the guard above.
+template <int Dim>
+Mat<Dim> correction_from_moment(const Mat<Dim>& moment) {
+  return moment.determinant() > Real(1e-6) ? Mat<Dim>(moment.inverse()) : Mat<Dim>::Identity();
+}
+
 template <int Dim>
 void compute_correction_matrix(const NeighbourList<Dim>& relation, std::span<const Real> source_volume,
                                std::span<Mat<Dim>> correction_matrix) {
@@ -25,7 +31,7 @@ void compute_correction_matrix(const NeighbourList<Dim>& relation, std::span<con
       moment -= source_volume[j] * relation.distance[k] * relation.kernel_derivative[k] *
                 (e_ij * e_ij.transpose());
     }
-    correction_matrix[i] = moment.determinant() > Real(1e-6) ? Mat<Dim>(moment.inverse()) : Mat<Dim>::Identity();
+    correction_matrix[i] = correction_from_moment<Dim>(moment);
   });
 }
 

@@ -55,7 +55,7 @@ struct TaylorGreenParameters {
   double end_time = 1;
   double reynolds = 100;      ///< U L / nu with U = L = rho = 1
   double sound_speed = 10;
-  FluidSceneNumerics numerics = internal_flow_numerics();
+  FluidSceneNumerics numerics = taylor_green_numerics();
 };
 
 struct PoiseuilleParameters {
