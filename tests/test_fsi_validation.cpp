@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "apps/scenes/fsi/fsi_scenes.hpp"
+#include "apps/scenes/solid/solid_scenes.hpp"
 #include "libsph/core/numerical_failure.hpp"
 #include "run_scene_for_test.hpp"
 
@@ -58,6 +59,34 @@ TEST(FsiRegression, TurekHronFsi2AmplitudeAndFrequency) {
   EXPECT_EQ(r.status, "completed");
   EXPECT_LT(error(r, "tip_amplitude_relative"), 0.22);
   EXPECT_LT(error(r, "tip_frequency_relative"), 0.19);
+}
+
+// The Turek-Hron FSI2 bar on its own (L = 3.5, H = 0.2, rho = 10, E = 1400, nu = 0.4, 4 particles
+// across) in its second bending mode, the mode FSI2 oscillates in: the oscillating-beam scene with
+// mode = 2. At that scene's solid numerics (quadratic F, Gauss points, clamp by reflection) the
+// period lies within 5 % of the thin plate's, 2 pi / omega with omega^2 = E H^2 k^4 / (12 rho
+// (1 - nu^2) L^4), k L = 4.6941 (measured +2.6 %; shear and rotary inertia lengthen the thin-plate
+// period by about 1.3 % at L / H = 17.5). The FSI2 scene's own solid numerics (kernel-corrected F,
+// nodal, clamp fixed) make the bar's period 22 % too long (docs/fsi.md): that is most of FSI2's
+// frequency error.
+TEST(FsiValidation, TurekHronBarAloneSecondBendingMode) {
+  cardiosph::OscillatingBeamParameters p;
+  p.mode = 2;
+  p.length = 3.5;
+  p.thickness = 0.2;
+  p.resolution = 4;
+  p.clamp_length = 0.2;
+  p.density = 10;
+  p.young_modulus = 1400;
+  p.poisson_ratio = 0.4;
+  p.velocity_factor = 0.01;
+  p.end_time = 10;
+  const auto r = run_scene(*cardiosph::make_oscillating_beam_scene(p), "fsi2_bar");
+  const double period = result(r, "period_s"), reference = result(r, "reference_period_s");
+  std::printf("FSI2 bar alone, second mode, 4 across: period %.4f (thin plate %.4f), error %+.4f (bound 0.05), %g half periods, %.1f s\n",
+              period, reference, period / reference - 1, result(r, "half_periods_measured"), r.wall_time_s);
+  EXPECT_LT(error(r, "period_relative"), 0.05);
+  EXPECT_GE(result(r, "half_periods_measured"), 3);
 }
 
 // The clamped plate on its own: the hydrostatic-plate scene with a water film of one fluid layer

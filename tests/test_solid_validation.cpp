@@ -25,7 +25,7 @@ double result(const sph::RunReport& r, const std::string& key) { return r.result
 // Gray et al. 2001 plate at H/dp = 10 with the scene's defaults (quadratic reconstruction, Gauss
 // quadrature in the cells, energy-based hourglass control, clamp by reflection), over three periods
 // (the default runs five; three measure the same period, 0.2542 s, and energy drift, in 60 % of the
-// time). Period within 0.5 % of the thin-plate value (measured +0.07 %). The bound is the accuracy of
+// time). Period within 0.5 % of the thin-plate value (measured +0.08 %). The bound is the accuracy of
 // the reference, not of the code: the thin-plate period leaves out shear and rotary inertia (about
 // 0.6 % for L / H = 10) and the stiffening at this amplitude (about -0.35 %), and the Gauss series
 // converges to 0.10 % above it (docs/solid.md); 0.07 % is agreement within that, not a measure of

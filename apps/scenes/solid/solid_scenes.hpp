@@ -31,6 +31,7 @@ struct OscillatingBeamParameters {
   double density = 1000;         ///< [kg/m^3]
   double young_modulus = 2e6;    ///< [Pa]
   double poisson_ratio = 0.3975;
+  long mode = 1;                  ///< bending mode: 1 or 2
   double velocity_factor = 0.05;  ///< vf: tip speed vf c0, c0 = sqrt(K / rho)
   std::string material = "neo_hookean";  ///< neo_hookean or saint_venant_kirchhoff
   std::string clamp = "reflection";  ///< reflection or fixed (see ElasticSolid::clamp_by_reflection)
