@@ -392,56 +392,56 @@ void WeaklyCompressibleFluid<Dim>::first_half(Real dt) {
   // (the corrected and the plain force as two instantiations: the plain one compiles as it did
   // before the option existed, to the bit)
   auto pressure_force = [&](auto corrected) {
-  parallel_for(owned, [&](std::size_t i) {
-    constexpr bool correct = decltype(corrected)::value;
-    Vec<Dim> force = Vec<Dim>::Zero();
-    const Real two_over_rho = Real(2) / rho[i];
-    const Vec<Dim> vi = v[i];
-    const Real p_i = p[i];
-    for (std::size_t k = inner_.offsets[i]; correct && k < inner_.offsets[i + 1]; ++k) {
-      // 2 P*_ij e -> (p_i B_i + p_j B_j) e + 2 (dissipative part) e
-      const PairState& sj = state_[inner_.neighbour[k]];
-      const Vec<Dim>& e = inner_.unit_vector[k];
-      const Vec<Dim> pressure = p_i * (correction_[i] * e) + sj.pressure * (correction_[inner_.neighbour[k]] * e);
-      const Real dissipative = limited(-(vi - sj.velocity).dot(e));
-      force -= (sj.volume * inner_.kernel_derivative[k] / rho[i]) * (pressure + (Real(2) * dissipative) * e);
-    }
-    for (std::size_t k = inner_.offsets[i]; !correct && k < inner_.offsets[i + 1]; ++k) {
-      const Index j = inner_.neighbour[k];
-      const PairState& sj = state_[j];
-      const Vec<Dim>& e = inner_.unit_vector[k];
-      const Real w_dot_e = (vi - sj.velocity).dot(e);
-      const Real p_star = Real(0.5) * (p_i + sj.pressure) + limited(-w_dot_e);
-      Real pair = two_over_rho * p_star * sj.volume;
-      if (viscous) pair += rho[j] * V[j] * monaghan(w_dot_e, inner_.distance[k], Real(0.5) * (rho[i] + rho[j]));
-      force -= (pair * inner_.kernel_derivative[k]) * e;
-    }
-    for (const auto& w : views) {
-      const auto& rel = *w.relation;
-      const auto& vw = w.velocity;
-      const auto& aw = w.acceleration;
-      const auto& nw = w.normal;
-      for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
-        const Index j = rel.neighbour[k];
-        const Vec<Dim>& e = rel.unit_vector[k];
-        // x_w - x_i = -r e: the pressure extrapolated to the wall particle (Adami et al. 2012).
-        const Real p_wall = p_i + rho[i] * rel.distance[k] * (g - aw[j]).dot(-e);
-        const Real jump = Real(2) * (vw[j] - vi).dot(nw[j]);
-        const Real p_star = Real(0.5) * (p_i + p_wall) + limited(jump);
-        Real pair = two_over_rho * p_star * w.volume[j];
-        if (viscous) pair += rho[i] * w.volume[j] * monaghan(Real(2) * (vi - vw[j]).dot(e), rel.distance[k], rho[i]);
-        if constexpr (correct) {  // the wall particle takes B_i: the pair force along B_i e
-          const Vec<Dim> direction = correction_[i] * e;
-          force -= (pair * rel.kernel_derivative[k]) * direction;
-          if (w.pressure_pairs) (*w.pressure_pairs)[k] = (-(m[i] * pair * rel.kernel_derivative[k])) * direction;
-        } else {
-          force -= (pair * rel.kernel_derivative[k]) * e;
-          if (w.pressure_pairs) (*w.pressure_pairs)[k] = (-(m[i] * pair * rel.kernel_derivative[k])) * e;
+    parallel_for(owned, [&](std::size_t i) {
+      constexpr bool correct = decltype(corrected)::value;
+      Vec<Dim> force = Vec<Dim>::Zero();
+      const Real two_over_rho = Real(2) / rho[i];
+      const Vec<Dim> vi = v[i];
+      const Real p_i = p[i];
+      for (std::size_t k = inner_.offsets[i]; correct && k < inner_.offsets[i + 1]; ++k) {
+        // 2 P*_ij e -> (p_i B_i + p_j B_j) e + 2 (dissipative part) e
+        const PairState& sj = state_[inner_.neighbour[k]];
+        const Vec<Dim>& e = inner_.unit_vector[k];
+        const Vec<Dim> pressure = p_i * (correction_[i] * e) + sj.pressure * (correction_[inner_.neighbour[k]] * e);
+        const Real dissipative = limited(-(vi - sj.velocity).dot(e));
+        force -= (sj.volume * inner_.kernel_derivative[k] / rho[i]) * (pressure + (Real(2) * dissipative) * e);
+      }
+      for (std::size_t k = inner_.offsets[i]; !correct && k < inner_.offsets[i + 1]; ++k) {
+        const Index j = inner_.neighbour[k];
+        const PairState& sj = state_[j];
+        const Vec<Dim>& e = inner_.unit_vector[k];
+        const Real w_dot_e = (vi - sj.velocity).dot(e);
+        const Real p_star = Real(0.5) * (p_i + sj.pressure) + limited(-w_dot_e);
+        Real pair = two_over_rho * p_star * sj.volume;
+        if (viscous) pair += rho[j] * V[j] * monaghan(w_dot_e, inner_.distance[k], Real(0.5) * (rho[i] + rho[j]));
+        force -= (pair * inner_.kernel_derivative[k]) * e;
+      }
+      for (const auto& w : views) {
+        const auto& rel = *w.relation;
+        const auto& vw = w.velocity;
+        const auto& aw = w.acceleration;
+        const auto& nw = w.normal;
+        for (std::size_t k = rel.offsets[i]; k < rel.offsets[i + 1]; ++k) {
+          const Index j = rel.neighbour[k];
+          const Vec<Dim>& e = rel.unit_vector[k];
+          // x_w - x_i = -r e: the pressure extrapolated to the wall particle (Adami et al. 2012).
+          const Real p_wall = p_i + rho[i] * rel.distance[k] * (g - aw[j]).dot(-e);
+          const Real jump = Real(2) * (vw[j] - vi).dot(nw[j]);
+          const Real p_star = Real(0.5) * (p_i + p_wall) + limited(jump);
+          Real pair = two_over_rho * p_star * w.volume[j];
+          if (viscous) pair += rho[i] * w.volume[j] * monaghan(Real(2) * (vi - vw[j]).dot(e), rel.distance[k], rho[i]);
+          if constexpr (correct) {  // the wall particle takes B_i: the pair force along B_i e
+            const Vec<Dim> direction = correction_[i] * e;
+            force -= (pair * rel.kernel_derivative[k]) * direction;
+            if (w.pressure_pairs) (*w.pressure_pairs)[k] = (-(m[i] * pair * rel.kernel_derivative[k])) * direction;
+          } else {
+            force -= (pair * rel.kernel_derivative[k]) * e;
+            if (w.pressure_pairs) (*w.pressure_pairs)[k] = (-(m[i] * pair * rel.kernel_derivative[k])) * e;
+          }
         }
       }
-    }
-    a[i] = force;
-  });
+      a[i] = force;
+    });
   };
   if (numerics.kernel_correction)
     pressure_force(std::true_type{});
